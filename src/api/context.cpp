@@ -1,0 +1,67 @@
+#include "api/impl.hpp"
+#include "cl/kernel_sources.hpp"
+#include "clr_limits.h"
+
+#include <string>
+
+namespace clraster {
+
+const char* version() { return CLRASTER_VERSION; }
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<DeviceInfo> result;
+  for (const cl_host::Device& device : cl_host::enumerate_devices()) result.push_back(device.info);
+  return result;
+}
+
+namespace {
+
+void check_options(const ContextOptions& options) {
+  if (options.memory_cap < kMinMemoryCap) {
+    throw InvalidArgument("memory cap of " + std::to_string(options.memory_cap) + " bytes is below the minimum of " +
+                          std::to_string(kMinMemoryCap) + " bytes");
+  }
+  if (options.tile_size != 8 && options.tile_size != 16 && options.tile_size != 32) {
+    throw InvalidArgument("tile size " + std::to_string(options.tile_size) + " is not 8, 16 or 32");
+  }
+}
+
+}  // namespace
+
+ContextState::ContextState(const ContextOptions& options_in, cl_host::Device device_in)
+    : options(options_in),
+      device(std::move(device_in)),
+      context(device.device),
+      queue(context, device.device),
+      programs(context, device, options.cache_dir) {
+  const std::size_t group_limit = device.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+  const auto tile_pixels = static_cast<std::size_t>(options.tile_size * options.tile_size);
+  if (tile_pixels > group_limit || CLR_SCAN_GROUP_SIZE > group_limit) {
+    throw InvalidArgument("device " + device.info.name + " allows work-groups of " + std::to_string(group_limit) +
+                          " work-items; tile size " + std::to_string(options.tile_size) + " needs " +
+                          std::to_string(std::max<std::size_t>(tile_pixels, CLR_SCAN_GROUP_SIZE)));
+  }
+}
+
+pipeline::Pipeline& ContextState::get_pipeline() {
+  if (!pipeline) {
+    const std::string build_options = "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size);
+    const cl::Program program = programs.get("pipeline", cl_sources::pipeline_program(), build_options);
+    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, program, options.tile_size, options.memory_cap);
+  }
+  return *pipeline;
+}
+
+Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()) {
+  check_options(options);
+  impl_->state = std::make_shared<ContextState>(options, cl_host::select_device(options.device));
+}
+Context::~Context() = default;
+Context::Context(Context&&) noexcept = default;
+Context& Context::operator=(Context&&) noexcept = default;
+
+const DeviceInfo& Context::device() const { return impl_->state->device.info; }
+const ContextOptions& Context::options() const { return impl_->state->options; }
+void Context::finish() { impl_->state->queue.finish(); }
+
+}  // namespace clraster

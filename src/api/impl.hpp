@@ -1,0 +1,52 @@
+// The private side of the public API objects (clraster.hpp): what each handle owns.
+#pragma once
+
+#include "cl/device.hpp"
+#include "cl/program_cache.hpp"
+#include "clraster/clraster.hpp"
+#include "pipeline/pipeline.hpp"
+
+#include <memory>
+
+namespace clraster {
+
+// Shared by the Context and every resource made from it, so a resource that outlives its Context
+// still holds a valid OpenCL context and queue.
+struct ContextState {
+  ContextOptions options;
+  cl_host::Device device;
+  cl::Context context;
+  cl::CommandQueue queue;
+  cl_host::ProgramCache programs;
+  std::unique_ptr<pipeline::Pipeline> pipeline;  // built by the first draw
+
+  ContextState(const ContextOptions& options, cl_host::Device device);
+  pipeline::Pipeline& get_pipeline();
+};
+
+struct Context::Impl {
+  std::shared_ptr<ContextState> state;
+};
+
+struct VertexBuffer::Impl {
+  std::shared_ptr<ContextState> state;
+  cl::Buffer positions;
+  cl::Buffer normals;
+  bool has_normals = false;
+  std::size_t count = 0;
+};
+
+struct IndexBuffer::Impl {
+  std::shared_ptr<ContextState> state;
+  cl::Buffer indices;
+  std::size_t count = 0;
+  int index_size = 0;
+  pipeline::IndexRangeCache range_cache;
+};
+
+struct Framebuffer::Impl {
+  std::shared_ptr<ContextState> state;
+  pipeline::RenderTarget target;
+};
+
+}  // namespace clraster

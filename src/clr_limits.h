@@ -1,0 +1,49 @@
+/* clr_limits.h: every hard limit and tunable of the clraster pipeline, in one place.
+ *
+ * Included by the host C++ code and prepended to every OpenCL program, so both sides agree on
+ * sizes and layouts. Plain preprocessor constants only: this file must stay valid C++ and OpenCL C.
+ */
+#ifndef CLRASTER_LIMITS_H
+#define CLRASTER_LIMITS_H
+
+/* ---- Framebuffers and viewports ------------------------------------------------------------ */
+#define CLR_MAX_FRAMEBUFFER_SIZE 16384 /* pixels per side */
+#define CLR_MAX_VIEWPORT_OFFSET 32768  /* |viewport x|, |viewport y| (GL_VIEWPORT_BOUNDS_RANGE) */
+
+/* ---- Fixed-point rasterization ---------------------------------------------------------------
+ * Window coordinates are snapped to 1/256 pixel, as llvmpipe does. Snapped coordinates are kept
+ * within +-2^29 (2^21 pixels) by the guard band, so edge-function products stay below 2^61 and
+ * 64-bit evaluation is exact. */
+#define CLR_SUBPIXEL_BITS 8
+#define CLR_SUBPIXEL_ONE (1 << CLR_SUBPIXEL_BITS)
+#define CLR_GUARD_BAND_PIXELS 2000000.0f /* |window x|, |window y| after clipping */
+
+/* ---- Clipping ----------------------------------------------------------------------------------
+ * A triangle is clipped against near, far and the four guard-band planes: at most 3 + 6 vertices,
+ * fanned into at most 7 triangles. */
+#define CLR_CLIP_PLANES 6
+#define CLR_MAX_CLIP_VERTICES (3 + CLR_CLIP_PLANES)
+#define CLR_MAX_CLIP_TRIANGLES (CLR_MAX_CLIP_VERTICES - 2)
+
+/* ---- Varyings of the built-in program ---------------------------------------------------------- */
+#define CLR_NUM_VARYINGS 3
+
+/* ---- Work-group sizes -------------------------------------------------------------------------- */
+#define CLR_ITEM_GROUP_SIZE 64    /* one-work-item-per-element kernels (vertices, primitives) */
+#define CLR_SCAN_GROUP_SIZE 256   /* scans and radix-sort passes */
+#define CLR_SCAN_ITEMS 8          /* elements per work-item in scans and sorts */
+#define CLR_SCAN_BLOCK (CLR_SCAN_GROUP_SIZE * CLR_SCAN_ITEMS)
+#define CLR_RADIX_BITS 4          /* bits of the tile key sorted per radix pass */
+#define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
+
+/* ---- Rasterization ----------------------------------------------------------------------------- */
+#define CLR_DEFAULT_TILE_SIZE 16   /* pixels per tile side; one work-group per tile */
+#define CLR_RASTER_TRIANGLE_BATCH 64 /* set-up triangles staged in local memory at a time */
+
+/* ---- Memory budget -----------------------------------------------------------------------------
+ * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */
+#define CLR_MAX_CHUNK_PRIMITIVES (1u << 20) /* primitives per geometry chunk at most */
+#define CLR_BUFFER_GROWTH_NUM 3              /* scratch buffers grow by 3/2 when too small */
+#define CLR_BUFFER_GROWTH_DEN 2
+
+#endif /* CLRASTER_LIMITS_H */

@@ -1,0 +1,42 @@
+#include "parallel/radix_sort.hpp"
+
+#include "cl/launch.hpp"
+#include "clr_limits.h"
+
+#include <algorithm>
+
+namespace clraster::parallel {
+
+using cl_host::divide_round_up;
+
+RadixSort::RadixSort(const cl::Program& program, Scan& scan)
+    : scan_(scan), histogram_(program, "radix_histogram"), scatter_(program, "radix_scatter") {}
+
+std::size_t RadixSort::histogram_bytes(std::size_t count) {
+  return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * CLR_RADIX_BUCKETS * sizeof(cl_uint);
+}
+
+std::size_t RadixSort::scan_scratch_bytes(std::size_t count) {
+  return Scan::scratch_bytes(histogram_bytes(count) / sizeof(cl_uint));
+}
+
+int RadixSort::sort(cl::CommandQueue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2],
+                    std::size_t count, int key_bits, const cl::Buffer& histogram, const cl::Buffer& block_sums,
+                    const cl::Buffer& counters) {
+  const auto n = static_cast<cl_uint>(count);
+  const auto blocks = static_cast<cl_uint>(divide_round_up(count, CLR_SCAN_BLOCK));
+  int source = 0;
+  for (int shift = 0; shift < key_bits && count > 1; shift += CLR_RADIX_BITS) {
+    const auto shift_arg = static_cast<cl_uint>(shift);
+    cl_host::set_args(histogram_, keys[source], n, shift_arg, histogram, blocks);
+    cl_host::enqueue_blocks(queue, histogram_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+    scan_.exclusive(queue, histogram, std::size_t{blocks} * CLR_RADIX_BUCKETS, block_sums, counters);
+    cl_host::set_args(scatter_, keys[source], values[source], n, shift_arg, histogram, blocks, keys[1 - source],
+                      values[1 - source]);
+    cl_host::enqueue_blocks(queue, scatter_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+    source = 1 - source;
+  }
+  return source;
+}
+
+}  // namespace clraster::parallel

@@ -1,0 +1,76 @@
+/* scan.cl: exclusive prefix sums of uint arrays, in place, in three passes:
+ *   scan_reduce      one work-group per block of CLR_SCAN_BLOCK elements writes the block's sum;
+ *   scan_block_sums  one work-group scans the block sums (any number of them, in rounds);
+ *   scan_apply       one work-group per block scans its block and adds the block's offset.
+ * Integer sums are exact, so the result does not depend on the order of the additions. */
+
+/* Exclusive scan of one value per work-item across the work-group (CLR_SCAN_GROUP_SIZE items).
+ * Returns the item's prefix; *total receives the sum over the group. Hillis-Steele in local memory:
+ * log2(group) rounds, every item active, no divergent barriers. */
+uint work_group_exclusive_scan(uint value, __local uint* scratch, uint* total) {
+  const uint lid = get_local_id(0);
+  scratch[lid] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  for (uint offset = 1; offset < CLR_SCAN_GROUP_SIZE; offset <<= 1) {
+    const uint add = lid >= offset ? scratch[lid - offset] : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    scratch[lid] += add;
+    barrier(CLK_LOCAL_MEM_FENCE);
+  }
+  const uint inclusive = scratch[lid];
+  *total = scratch[CLR_SCAN_GROUP_SIZE - 1];
+  barrier(CLK_LOCAL_MEM_FENCE); /* scratch may be reused right after */
+  return inclusive - value;
+}
+
+__kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
+void scan_reduce(__global const uint* data, uint count, __global uint* block_sums) {
+  __local uint scratch[CLR_SCAN_GROUP_SIZE];
+  const uint begin = get_group_id(0) * CLR_SCAN_BLOCK;
+  uint sum = 0;
+  /* Strided so that neighbouring work-items read neighbouring elements. */
+  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
+    const uint index = begin + i * CLR_SCAN_GROUP_SIZE + get_local_id(0);
+    if (index < count) sum += data[index];
+  }
+  uint total;
+  work_group_exclusive_scan(sum, scratch, &total);
+  if (get_local_id(0) == 0) block_sums[get_group_id(0)] = total;
+}
+
+/* Scans block_sums[0 .. block_count) in place and writes the grand total for the host to read. */
+__kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
+void scan_block_sums(__global uint* block_sums, uint block_count, __global uint* counters) {
+  __local uint scratch[CLR_SCAN_GROUP_SIZE];
+  const uint lid = get_local_id(0);
+  uint carry = 0;
+  for (uint base = 0; base < block_count; base += CLR_SCAN_GROUP_SIZE) {
+    const uint index = base + lid;
+    const uint value = index < block_count ? block_sums[index] : 0u;
+    uint round_total;
+    const uint prefix = work_group_exclusive_scan(value, scratch, &round_total);
+    if (index < block_count) block_sums[index] = carry + prefix;
+    carry += round_total;
+  }
+  if (lid == 0) counters[CLR_COUNTER_SCAN_TOTAL] = carry;
+}
+
+__kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
+void scan_apply(__global uint* data, uint count, __global const uint* block_offsets) {
+  __local uint scratch[CLR_SCAN_GROUP_SIZE];
+  /* Each work-item scans CLR_SCAN_ITEMS consecutive elements serially, then the items' sums are
+   * scanned across the group. */
+  const uint begin = get_group_id(0) * CLR_SCAN_BLOCK + get_local_id(0) * CLR_SCAN_ITEMS;
+  uint values[CLR_SCAN_ITEMS];
+  uint sum = 0;
+  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
+    values[i] = begin + i < count ? data[begin + i] : 0u;
+    sum += values[i];
+  }
+  uint group_total;
+  uint running = block_offsets[get_group_id(0)] + work_group_exclusive_scan(sum, scratch, &group_total);
+  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
+    if (begin + i < count) data[begin + i] = running;
+    running += values[i];
+  }
+}

@@ -1,0 +1,28 @@
+// Exclusive prefix sum of a uint buffer on the device (kernels in scan.cl).
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+
+namespace clraster::parallel {
+
+class Scan {
+ public:
+  explicit Scan(const cl::Program& program);
+
+  // Bytes of block-sum scratch a scan of `count` elements needs.
+  static std::size_t scratch_bytes(std::size_t count);
+
+  // Replaces data[0 .. count) by its exclusive prefix sums and writes the total to
+  // counters[CLR_COUNTER_SCAN_TOTAL]. block_sums holds at least scratch_bytes(count).
+  void exclusive(cl::CommandQueue& queue, const cl::Buffer& data, std::size_t count, const cl::Buffer& block_sums,
+                 const cl::Buffer& counters);
+
+ private:
+  cl::Kernel reduce_;
+  cl::Kernel scan_block_sums_;
+  cl::Kernel apply_;
+};
+
+}  // namespace clraster::parallel

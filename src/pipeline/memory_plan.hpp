@@ -1,0 +1,43 @@
+// How a draw divides the context's memory cap among the pipeline's intermediate buffers, and so how
+// many primitives each chunk takes and how many bin pairs each raster batch takes.
+#pragma once
+
+#include "resources/scratch.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace clraster::pipeline {
+
+struct PlanInput {
+  std::size_t memory_cap = 0;
+  std::uint64_t vertex_count = 0;
+  bool indexed = false;
+  int topology = 0;               // CLR_TOPOLOGY_*
+  std::uint32_t primitive_count = 0;
+  std::uint32_t tile_count = 0;
+};
+
+struct MemoryPlan {
+  // Indexed draws whose transformed vertices fit in a quarter of the cap shade each vertex once per
+  // draw; others shade each chunk's stream positions.
+  bool shade_all_vertices = false;
+  std::uint32_t chunk_primitives = 0;  // primitives per geometry chunk
+  std::uint32_t setup_capacity = 0;    // set-up triangles per chunk (clipping can make more than one)
+  std::uint64_t pair_capacity = 0;     // bin pairs per raster batch
+  resources::ScratchSizes buffer_bytes{};
+};
+
+// The plan with the largest chunks that fit. Throws InvalidArgument when the cap cannot hold even
+// one primitive together with the bin pairs of one screen-covering triangle.
+MemoryPlan plan_memory(const PlanInput& input);
+
+// Stream positions (relative to the draw's first element) that primitives [first, first + count)
+// use, for vertex shading per chunk: [begin, begin + count), plus a fan's centre.
+struct StreamRange {
+  std::uint32_t begin = 0;
+  std::uint32_t count = 0;
+};
+StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint32_t primitive_count);
+
+}  // namespace clraster::pipeline

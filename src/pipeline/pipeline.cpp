@@ -1,0 +1,206 @@
+#include "pipeline/pipeline.hpp"
+
+#include "cl/launch.hpp"
+#include "clr_limits.h"
+#include "pipeline/draw_state.hpp"
+#include "stages/types.h"
+
+#include <algorithm>
+#include <string>
+
+namespace clraster::pipeline {
+
+using cl_host::read_uint;
+using resources::Scratch;
+
+namespace {
+
+constexpr std::size_t kShadedVertexBytes = CLR_SHADED_VERTEX_FLOAT4S * 4 * sizeof(float);
+
+std::uint32_t primitives_of(int topology, std::uint64_t elements) {
+  if (topology == CLR_TOPOLOGY_LIST) return static_cast<std::uint32_t>(elements / 3);
+  return elements >= 3 ? static_cast<std::uint32_t>(elements - 2) : 0u;
+}
+
+}  // namespace
+
+Pipeline::Pipeline(cl::Context context, cl::CommandQueue queue, const cl::Program& program, int tile_size,
+                   std::size_t memory_cap)
+    : context_(context),
+      queue_(std::move(queue)),
+      tile_size_(tile_size),
+      memory_cap_(memory_cap),
+      placeholder_(context, CL_MEM_READ_WRITE, 16),
+      uniforms_(context, CL_MEM_READ_ONLY, sizeof(DrawUniforms)),
+      counters_(context, CL_MEM_READ_WRITE, CLR_COUNTER_COUNT * sizeof(cl_uint)),
+      scratch_(context),
+      index_max_(program, "index_max"),
+      scan_(program),
+      sort_(program, scan_),
+      vertex_(program),
+      primitive_(program),
+      setup_(program),
+      bin_(program, sort_),
+      raster_(program) {}
+
+std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count) {
+  IndexRangeCache& cache = *source.index_cache;
+  if (cache.valid && cache.first == first && cache.count == count) return cache.largest;
+  queue_.enqueueFillBuffer(counters_, cl_uint{0}, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint));
+  cl_host::set_args(index_max_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
+  cl_host::enqueue_blocks(queue_, index_max_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+  cache = {true, first, count, read_uint(queue_, counters_, CLR_COUNTER_MAX_INDEX)};
+  return cache.largest;
+}
+
+std::uint32_t Pipeline::offset_at(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count,
+                                  std::uint32_t total) {
+  if (index == 0) return 0;
+  if (index == count) return total;
+  return read_uint(queue_, offsets, index);
+}
+
+std::uint32_t Pipeline::last_offset_within(const cl::Buffer& offsets, std::uint32_t lo, std::uint32_t hi,
+                                           std::uint32_t end_value, std::uint64_t base, std::uint64_t limit) {
+  while (lo < hi) {
+    const std::uint32_t mid = lo + (hi - lo + 1) / 2;
+    const std::uint32_t value = mid == hi ? end_value : read_uint(queue_, offsets, mid);
+    if (value - base <= limit) lo = mid; else hi = mid - 1;
+  }
+  return lo;
+}
+
+DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
+                         std::uint32_t count, const DrawState& state) {
+  const char* elements = source.index_size ? "indices" : "vertices";
+  if (first > source.element_count) {
+    throw InvalidArgument("draw starts at element " + std::to_string(first) + " but there are only " +
+                          std::to_string(source.element_count) + " " + elements);
+  }
+  const std::uint64_t available = source.element_count - first;
+  const std::uint64_t element_count = count == kAllElements ? available : count;
+  if (element_count > available) {
+    throw InvalidArgument("draw of " + std::to_string(element_count) + " elements from element " +
+                          std::to_string(first) + " runs past the " + std::to_string(source.element_count) + " " +
+                          elements);
+  }
+  if (element_count > 0xffffffffull - 2) throw InvalidArgument("draw of more than 2^32 - 3 elements");
+
+  DrawUniforms uniforms = make_uniforms(state, target.width, target.height);
+  const int topology = uniforms.topology;
+  DrawStats stats;
+  const std::uint32_t primitives = primitives_of(topology, element_count);
+  stats.triangles = primitives;
+  stats.peak_memory_bytes = scratch_.peak_bytes();
+  if (primitives == 0) return stats;
+
+  const auto used_elements = static_cast<std::uint32_t>(topology == CLR_TOPOLOGY_LIST ? 3ull * primitives : element_count);
+  if (source.index_size) {
+    const std::uint32_t largest = largest_index(source, first, used_elements);
+    if (largest >= source.vertex_count) {
+      throw InvalidArgument("index " + std::to_string(largest) + " is out of range: the vertex buffer has " +
+                            std::to_string(source.vertex_count) + " vertices");
+    }
+  }
+  uniforms.index_size = source.index_size;
+  uniforms.first = first;
+  queue_.enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms);
+  queue_.enqueueFillBuffer(counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
+
+  const auto tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
+  const auto tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
+  const std::uint32_t tile_count = tiles_x * tiles_y;
+  const MemoryPlan plan = plan_memory({memory_cap_, source.vertex_count, source.index_size != 0, topology,
+                                       primitives, tile_count});
+  scratch_.set_capacities(plan.buffer_bytes);
+
+  const stages::DrawBuffers draw{source.positions,  source.has_normals ? source.normals : placeholder_,
+                                 source.has_normals, source.index_size ? source.indices : placeholder_,
+                                 uniforms_,          counters_};
+  if (plan.shade_all_vertices) {
+    const auto vertices = static_cast<std::uint32_t>(source.vertex_count);
+    vertex_.run(queue_, {&draw, true, 0, 0, vertices,
+                         scratch_.get(Scratch::ShadedVertices, source.vertex_count * kShadedVertexBytes)});
+  }
+
+  for (std::uint32_t chunk_begin = 0; chunk_begin < primitives;) {
+    std::uint32_t chunk_count = std::min(plan.chunk_primitives, primitives - chunk_begin);
+
+    // Vertex stage: once per draw (above), or this chunk's stream positions.
+    SlotMap slots{1, 0, 0};
+    cl::Buffer shaded;
+    if (plan.shade_all_vertices) {
+      shaded = scratch_.get(Scratch::ShadedVertices, source.vertex_count * kShadedVertexBytes);
+    } else {
+      const StreamRange range = stream_range(topology, chunk_begin, chunk_count);
+      const std::uint32_t slot_count = range.count + (topology == CLR_TOPOLOGY_FAN ? 1 : 0);
+      shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{slot_count} * kShadedVertexBytes);
+      vertex_.run(queue_, {&draw, false, range.begin, range.count, slot_count, shaded});
+      slots = {0, range.begin, range.count};
+    }
+
+    // Primitive stage: triangles left per primitive, and their offsets.
+    const cl::Buffer triangle_offsets = scratch_.get(Scratch::TriangleCounts, std::size_t{chunk_count} * sizeof(cl_uint));
+    primitive_.run(queue_, {&draw, slots, shaded, chunk_begin, chunk_count, triangle_offsets});
+    scan_.exclusive(queue_, triangle_offsets, chunk_count,
+                    scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(chunk_count)), counters_);
+    std::uint32_t triangles = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+    if (triangles > plan.setup_capacity) {  // clipping made more triangles than planned: shorten the chunk
+      const std::uint32_t all = chunk_count;
+      chunk_count = last_offset_within(triangle_offsets, 0, all, triangles, 0, plan.setup_capacity);
+      triangles = offset_at(triangle_offsets, chunk_count, all, triangles);
+    }
+    ++stats.chunks;
+    stats.setup_triangles += triangles;
+    if (triangles > 0) {
+      // Set-up, then the bin pairs each set-up triangle needs, and their offsets.
+      const cl::Buffer setup = scratch_.get(Scratch::SetupTriangles, std::size_t{triangles} * sizeof(SetupTriangle));
+      const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, std::size_t{triangles} * sizeof(cl_uint));
+      setup_.run(queue_, {&draw, slots, shaded, chunk_begin, chunk_count, triangle_offsets, setup, pair_offsets});
+      scan_.exclusive(queue_, pair_offsets, triangles,
+                      scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(triangles)), counters_);
+      const std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+      stats.tile_triangle_pairs += pairs;
+
+      // Bin and rasterize in batches of set-up triangles whose pairs fit the plan, in order.
+      for (std::uint32_t batch_begin = 0; batch_begin < triangles;) {
+        const std::uint32_t pair_base = offset_at(pair_offsets, batch_begin, triangles, pairs);
+        const std::uint32_t batch_end =
+            pairs - pair_base <= plan.pair_capacity
+                ? triangles
+                : last_offset_within(pair_offsets, batch_begin, triangles, pairs, pair_base, plan.pair_capacity);
+        const std::uint32_t batch_pairs = offset_at(pair_offsets, batch_end, triangles, pairs) - pair_base;
+        const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
+
+        stages::BinParams bin;
+        bin.triangles = setup;
+        bin.pair_offsets = pair_offsets;
+        bin.triangle_begin = batch_begin;
+        bin.triangle_count = batch_end - batch_begin;
+        bin.pair_base = pair_base;
+        bin.pair_count = batch_pairs;
+        bin.tiles_x = tiles_x;
+        bin.tile_count = tile_count;
+        bin.tile_keys[0] = scratch_.get(Scratch::TileKeys0, pair_bytes);
+        bin.tile_keys[1] = scratch_.get(Scratch::TileKeys1, pair_bytes);
+        bin.triangle_ids[0] = scratch_.get(Scratch::TriangleIds0, pair_bytes);
+        bin.triangle_ids[1] = scratch_.get(Scratch::TriangleIds1, pair_bytes);
+        bin.histogram = scratch_.get(Scratch::RadixHistogram, parallel::RadixSort::histogram_bytes(batch_pairs));
+        bin.block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::RadixSort::scan_scratch_bytes(batch_pairs));
+        bin.counters = counters_;
+        bin.tile_ranges = scratch_.get(Scratch::TileRanges, std::size_t{tile_count} * 2 * sizeof(cl_uint));
+        const int sorted = bin_.run(queue_, bin);
+
+        raster_.run(queue_, {setup, bin.triangle_ids[sorted], bin.tile_ranges, tiles_x, tiles_y, tile_size_,
+                             target.color, target.depth, static_cast<std::uint32_t>(target.width), uniforms_});
+        batch_begin = batch_end;
+      }
+    }
+    chunk_begin += chunk_count;
+  }
+  stats.triangles_dropped = read_uint(queue_, counters_, CLR_COUNTER_DROPPED);
+  stats.peak_memory_bytes = scratch_.peak_bytes();
+  return stats;
+}
+
+}  // namespace clraster::pipeline

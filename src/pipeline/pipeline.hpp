@@ -1,0 +1,88 @@
+// The pipeline: runs a draw through every stage, chunk by chunk, within the memory cap.
+//
+//   vertex -> primitive (assembly, clipping, culling: counts) -> scan -> setup -> scan
+//          -> bin (emit pairs, radix sort by tile, tile ranges) -> raster
+//
+// All per-vertex, per-triangle and per-pixel work runs in kernels. The host only reads back the
+// totals that size the next step (triangles per chunk, pairs per chunk) and, when a chunk overflows
+// what the plan gave it, binary-searches the offsets to split it.
+#pragma once
+
+#include "clraster/clraster.hpp"
+#include "parallel/radix_sort.hpp"
+#include "pipeline/memory_plan.hpp"
+#include "resources/scratch.hpp"
+#include "stages/bin.hpp"
+#include "stages/primitive.hpp"
+#include "stages/raster.hpp"
+#include "stages/setup.hpp"
+#include "stages/vertex.hpp"
+
+namespace clraster::pipeline {
+
+// Where a draw renders to.
+struct RenderTarget {
+  cl::Buffer color;  // RGBA8 per pixel, row 0 at the bottom
+  cl::Buffer depth;  // float per pixel
+  int width = 0;
+  int height = 0;
+};
+
+// The largest index of the range an index buffer was last drawn with: index buffers cannot change
+// after upload, so repeated draws of the same range validate their indices once.
+struct IndexRangeCache {
+  bool valid = false;
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;
+  std::uint32_t largest = 0;
+};
+
+// What the draw reads, resolved from the public buffers.
+struct DrawSource {
+  cl::Buffer positions;
+  cl::Buffer normals;
+  bool has_normals = false;
+  std::uint64_t vertex_count = 0;
+  cl::Buffer indices;       // null for non-indexed draws
+  int index_size = 0;       // 0, 2 or 4
+  IndexRangeCache* index_cache = nullptr;
+  std::uint64_t element_count = 0;  // indices, or vertices when non-indexed
+};
+
+class Pipeline {
+ public:
+  Pipeline(cl::Context context, cl::CommandQueue queue, const cl::Program& program, int tile_size,
+           std::size_t memory_cap);
+
+  DrawStats draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
+                 const DrawState& state);
+
+  std::size_t peak_memory_bytes() const { return scratch_.peak_bytes(); }
+
+ private:
+  std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);
+  // Largest k in [lo, hi] with offsets[k] - base <= limit, for an exclusive scan whose value at hi
+  // (one past its last element) is `end_value`.
+  std::uint32_t last_offset_within(const cl::Buffer& offsets, std::uint32_t lo, std::uint32_t hi,
+                                   std::uint32_t end_value, std::uint64_t base, std::uint64_t limit);
+  std::uint32_t offset_at(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
+
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  int tile_size_;
+  std::size_t memory_cap_;
+  cl::Buffer placeholder_;  // bound to kernel arguments a draw does not use
+  cl::Buffer uniforms_;
+  cl::Buffer counters_;
+  resources::ScratchArena scratch_;
+  cl::Kernel index_max_;
+  parallel::Scan scan_;
+  parallel::RadixSort sort_;
+  stages::VertexStage vertex_;
+  stages::PrimitiveStage primitive_;
+  stages::SetupStage setup_;
+  stages::BinStage bin_;
+  stages::RasterStage raster_;
+};
+
+}  // namespace clraster::pipeline

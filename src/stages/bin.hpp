@@ -1,0 +1,42 @@
+// Binning (kernels in bin.cl, sorting in parallel/radix_sort.cl): the (tile, triangle) pairs of a
+// batch of set-up triangles, sorted by tile with primitive order kept, and each tile's run of them.
+#pragma once
+
+#include "parallel/radix_sort.hpp"
+
+#include <cstdint>
+
+namespace clraster::stages {
+
+struct BinParams {
+  cl::Buffer triangles;            // SetupTriangle records of the chunk
+  cl::Buffer pair_offsets;         // exclusive scan of the set-up stage's pair counts
+  std::uint32_t triangle_begin = 0;
+  std::uint32_t triangle_count = 0;
+  std::uint32_t pair_base = 0;     // pair offset of triangle_begin
+  std::uint32_t pair_count = 0;    // pairs of the batch
+  std::uint32_t tiles_x = 0;
+  std::uint32_t tile_count = 0;
+  cl::Buffer tile_keys[2];         // scratch, pair_count each
+  cl::Buffer triangle_ids[2];
+  cl::Buffer histogram;            // radix sort scratch
+  cl::Buffer block_sums;           // scan scratch
+  cl::Buffer counters;
+  cl::Buffer tile_ranges;          // out: (first, end) per tile into the sorted triangle ids
+};
+
+class BinStage {
+ public:
+  BinStage(const cl::Program& program, parallel::RadixSort& sort)
+      : sort_(sort), emit_(program, "bin_emit"), ranges_(program, "tile_ranges") {}
+
+  // Returns the index (0 or 1) of the triangle_ids buffer that holds the sorted ids.
+  int run(cl::CommandQueue& queue, const BinParams& params);
+
+ private:
+  parallel::RadixSort& sort_;
+  cl::Kernel emit_;
+  cl::Kernel ranges_;
+};
+
+}  // namespace clraster::stages

@@ -1,0 +1,73 @@
+/* fixed_point.cl: window coordinates, snapping and exact edge functions, shared by culling,
+ * triangle set-up and rasterization.
+ *
+ * Window coordinates follow OpenGL (x_w = ndc * W/2 + X + W/2, y up, z_w = ndc_z / 2 + 1/2) and are
+ * snapped to 1/256 pixel after subtracting the half pixel, as llvmpipe does, so that pixel centres
+ * fall on integer multiples of CLR_SUBPIXEL_ONE. Every coverage decision is then integer
+ * arithmetic in 64 bits: exact, watertight and the same on every device. */
+
+typedef struct {
+  int2 fixed; /* snapped window position, pixel centres at multiples of CLR_SUBPIXEL_ONE */
+  float z;    /* window depth */
+  float inv_w;
+  float varyings[CLR_NUM_VARYINGS];
+} WindowVertex;
+
+/* Returns false when the position cannot be projected (w = 0: only a vertex at the origin of clip
+ * space survives clipping with w = 0). */
+inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
+  const float inv_w = 1.0f / v->position.w;
+  const float x = v->position.x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
+  const float y = v->position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
+  const float z = v->position.z * inv_w * 0.5f + 0.5f;
+  if (!isfinite(x) || !isfinite(y) || !isfinite(z)) return false;
+  out->fixed = (int2)(convert_int_rte((x - 0.5f) * (float)CLR_SUBPIXEL_ONE),
+                      convert_int_rte((y - 0.5f) * (float)CLR_SUBPIXEL_ONE));
+  out->z = z;
+  out->inv_w = inv_w;
+  for (int k = 0; k < CLR_NUM_VARYINGS; ++k) out->varyings[k] = v->varyings[k];
+  return true;
+}
+
+/* Twice the signed area of the snapped triangle: positive when counter-clockwise (y up). */
+inline long double_area(int2 a, int2 b, int2 c) {
+  return (long)(b.x - a.x) * (long)(c.y - a.y) - (long)(c.x - a.x) * (long)(b.y - a.y);
+}
+
+/* Pixels whose centres the snapped triangle's bounding box contains, clipped to the draw's
+ * writable rectangle: [min.x, max.x] x [min.y, max.y], empty when min > max. */
+inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* u, int2* lo, int2* hi) {
+  const int2 fixed_min = min(a, min(b, c));
+  const int2 fixed_max = max(a, max(b, c));
+  /* Centre of pixel i is at i * ONE: the first centre >= min is ceil(min / ONE). */
+  *lo = max((fixed_min + (CLR_SUBPIXEL_ONE - 1)) >> CLR_SUBPIXEL_BITS, (int2)(u->clip_rect[0], u->clip_rect[1]));
+  *hi = min(fixed_max >> CLR_SUBPIXEL_BITS, (int2)(u->clip_rect[2] - 1, u->clip_rect[3] - 1));
+}
+
+/* Face culling and emptiness: a triangle survives when it has non-zero snapped area, is not culled
+ * by its facing, and its bounding box contains a writable pixel centre. Small triangles are never
+ * dropped for being small: any with non-zero area may cover a centre. */
+inline bool triangle_survives(const WindowVertex* a, const WindowVertex* b, const WindowVertex* c,
+                              __constant const DrawUniforms* u) {
+  const long area = double_area(a->fixed, b->fixed, c->fixed);
+  if (area == 0) return false;
+  const bool front = (area > 0) == (u->front_face_ccw != 0);
+  if ((u->cull == CLR_CULL_BACK && !front) || (u->cull == CLR_CULL_FRONT && front)) return false;
+  int2 lo, hi;
+  pixel_bounds(a->fixed, b->fixed, c->fixed, u, &lo, &hi);
+  return lo.x <= hi.x && lo.y <= hi.y;
+}
+
+/* Whether a pixel centre exactly on the edge from a to b (counter-clockwise triangle, y up) belongs
+ * to the triangle: yes for left edges (going down) and bottom edges (horizontal, going right). This
+ * is llvmpipe's top-left rule seen in OpenGL's y-up window coordinates. */
+inline bool edge_includes_centres(int2 a, int2 b) {
+  const int dx = b.x - a.x;
+  const int dy = b.y - a.y;
+  return dy < 0 || (dy == 0 && dx > 0);
+}
+
+/* E(p) for the edge a -> b, positive left of it (inside a counter-clockwise triangle). */
+inline long edge_function(int2 a, int2 b, long px, long py) {
+  return (long)(b.x - a.x) * (py - a.y) - (long)(b.y - a.y) * (px - a.x);
+}

@@ -1,0 +1,33 @@
+// Rasterization, depth test, interpolation, shading and blending (kernel in raster.cl): one
+// work-group per tile that has triangles binned to it.
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <cstdint>
+
+namespace clraster::stages {
+
+struct RasterParams {
+  cl::Buffer triangles;      // SetupTriangle records
+  cl::Buffer sorted_ids;     // triangle ids, grouped by tile, in primitive order
+  cl::Buffer tile_ranges;
+  std::uint32_t tiles_x = 0;
+  std::uint32_t tiles_y = 0;
+  int tile_size = 0;
+  cl::Buffer color;          // RGBA8 per pixel, row 0 at the bottom
+  cl::Buffer depth;          // float per pixel
+  std::uint32_t width = 0;
+  cl::Buffer uniforms;
+};
+
+class RasterStage {
+ public:
+  explicit RasterStage(const cl::Program& program) : kernel_(program, "raster_tiles") {}
+  void run(cl::CommandQueue& queue, const RasterParams& params);
+
+ private:
+  cl::Kernel kernel_;
+};
+
+}  // namespace clraster::stages

@@ -1,0 +1,15 @@
+#include "stages/vertex.hpp"
+
+#include "cl/launch.hpp"
+#include "clr_limits.h"
+
+namespace clraster::stages {
+
+void VertexStage::run(cl::CommandQueue& queue, const VertexParams& p) {
+  cl_host::set_args(kernel_, p.draw->positions, p.draw->normals, cl_int{p.draw->has_normals}, p.draw->indices,
+                    cl_int{p.shade_all}, cl_uint{p.stream_begin}, cl_uint{p.main_count}, cl_uint{p.slot_count},
+                    p.draw->uniforms, p.shaded);
+  cl_host::enqueue_items(queue, kernel_, p.slot_count, CLR_ITEM_GROUP_SIZE);
+}
+
+}  // namespace clraster::stages
