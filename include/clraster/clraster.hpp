@@ -94,6 +94,8 @@ struct ContextOptions {
   // Where built program binaries are kept between runs. Empty: $CLRASTER_CACHE_DIR, else
   // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" disables the on-disk cache.
   std::string cache_dir;
+  // Measure each pipeline stage's device time (DrawStats::stage_times). Costs a little per command.
+  bool profile = false;
 };
 
 // A device, its command queue, the built pipeline programs and the pipeline's scratch memory.
@@ -227,6 +229,16 @@ struct DrawCall {
   DrawState state{};
 };
 
+// Device time spent in each stage of a draw, in milliseconds (zero unless ContextOptions::profile).
+struct StageTimes {
+  double vertex_ms = 0;     // vertex program
+  double primitive_ms = 0;  // assembly, clipping, culling, and the scan that places the triangles
+  double setup_ms = 0;      // triangle set-up and the scan that places the bin pairs
+  double binning_ms = 0;    // bin pairs, radix sort by tile, tile ranges
+  double raster_ms = 0;     // rasterization, depth test, interpolation, shading, blending
+  double other_ms = 0;      // index validation, clears and transfers
+};
+
 struct DrawStats {
   std::uint64_t triangles = 0;            // primitives assembled from the input
   std::uint64_t triangles_dropped = 0;    // of those, dropped for non-finite clip coordinates
@@ -234,6 +246,7 @@ struct DrawStats {
   std::uint64_t chunks = 0;               // pieces the draw was split into to stay under the memory cap
   std::uint64_t tile_triangle_pairs = 0;  // (tile, triangle) bin entries rasterized
   std::uint64_t peak_memory_bytes = 0;    // largest total of intermediate buffers held, so far, by the context
+  StageTimes stage_times;
 };
 
 // A colour (RGBA8) and a depth (32-bit float) attachment of 1..16384 pixels per side.

@@ -32,7 +32,7 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
     : options(options_in),
       device(std::move(device_in)),
       context(device.device),
-      queue(context, device.device),
+      queue(cl::CommandQueue(context, device.device, options.profile ? CL_QUEUE_PROFILING_ENABLE : 0), options.profile),
       programs(context, device, options.cache_dir) {
   const std::size_t group_limit = device.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
   const auto tile_pixels = static_cast<std::size_t>(options.tile_size * options.tile_size);
@@ -62,6 +62,6 @@ Context& Context::operator=(Context&&) noexcept = default;
 
 const DeviceInfo& Context::device() const { return impl_->state->device.info; }
 const ContextOptions& Context::options() const { return impl_->state->options; }
-void Context::finish() { impl_->state->queue.finish(); }
+void Context::finish() { impl_->state->queue.get().finish(); }
 
 }  // namespace clraster

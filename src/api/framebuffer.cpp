@@ -64,14 +64,14 @@ void Framebuffer::clear_color(std::array<float, 4> color) {
   const cl_uint packed = cl_uint{to_unorm8(color[0])} | cl_uint{to_unorm8(color[1])} << 8 |
                          cl_uint{to_unorm8(color[2])} << 16 | cl_uint{to_unorm8(color[3])} << 24;
   const std::size_t bytes = static_cast<std::size_t>(width()) * static_cast<std::size_t>(height()) * 4;
-  translate_cl_errors([&] { impl_->state->queue.enqueueFillBuffer(impl_->target.color, packed, 0, bytes); });
+  translate_cl_errors([&] { impl_->state->queue.get().enqueueFillBuffer(impl_->target.color, packed, 0, bytes); });
 }
 
 void Framebuffer::clear_depth(float depth) {
   // As glClearDepth: clamped to [0, 1].
   const float value = std::isnan(depth) ? 0.0f : std::clamp(depth, 0.0f, 1.0f);
   const std::size_t bytes = static_cast<std::size_t>(width()) * static_cast<std::size_t>(height()) * 4;
-  translate_cl_errors([&] { impl_->state->queue.enqueueFillBuffer(impl_->target.depth, value, 0, bytes); });
+  translate_cl_errors([&] { impl_->state->queue.get().enqueueFillBuffer(impl_->target.depth, value, 0, bytes); });
 }
 
 DrawStats Framebuffer::draw(const DrawCall& call) {
@@ -103,7 +103,7 @@ Image Framebuffer::read_color() const {
   const std::size_t pixels = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
   std::vector<cl_uint> bottom_up(pixels);
   translate_cl_errors([&] {
-    impl_->state->queue.enqueueReadBuffer(impl_->target.color, CL_TRUE, 0, pixels * 4, bottom_up.data());
+    impl_->state->queue.get().enqueueReadBuffer(impl_->target.color, CL_TRUE, 0, pixels * 4, bottom_up.data());
   });
   image.rgba.resize(pixels * 4);
   // Packed as R | G << 8 | B << 16 | A << 24; on the little-endian hosts OpenCL runs on, that is the
@@ -117,7 +117,7 @@ std::vector<float> Framebuffer::read_depth() const {
   const std::size_t pixels = static_cast<std::size_t>(width()) * static_cast<std::size_t>(height());
   std::vector<float> bottom_up(pixels);
   translate_cl_errors([&] {
-    impl_->state->queue.enqueueReadBuffer(impl_->target.depth, CL_TRUE, 0, pixels * 4, bottom_up.data());
+    impl_->state->queue.get().enqueueReadBuffer(impl_->target.depth, CL_TRUE, 0, pixels * 4, bottom_up.data());
   });
   std::vector<float> top_down(pixels);
   flip_rows(bottom_up, width(), height(), top_down.data());

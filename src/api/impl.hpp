@@ -3,6 +3,7 @@
 
 #include "cl/device.hpp"
 #include "cl/program_cache.hpp"
+#include "cl/queue.hpp"
 #include "clraster/clraster.hpp"
 #include "pipeline/pipeline.hpp"
 
@@ -16,7 +17,7 @@ struct ContextState {
   ContextOptions options;
   cl_host::Device device;
   cl::Context context;
-  cl::CommandQueue queue;
+  cl_host::Queue queue;
   cl_host::ProgramCache programs;
   std::unique_ptr<pipeline::Pipeline> pipeline;  // built by the first draw
 

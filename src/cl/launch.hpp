@@ -1,6 +1,8 @@
 // Small helpers for enqueueing kernels and reading single values back.
 #pragma once
 
+#include "cl/queue.hpp"
+
 #include <CL/opencl.hpp>
 
 #include <cstddef>
@@ -20,23 +22,36 @@ inline std::size_t divide_round_up(std::size_t value, std::size_t divisor) { ret
 
 // One work-item per element; the global size is rounded up to the work-group size because PoCL,
 // like OpenCL 1.2, has no non-uniform work-groups. Kernels ignore the items past `count`.
-inline void enqueue_items(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t count, std::size_t group_size) {
+inline void enqueue_items(Queue& queue, cl::Kernel& kernel, std::size_t count, std::size_t group_size) {
   if (count == 0) return;
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(round_up(count, group_size)), cl::NDRange(group_size));
+  queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(round_up(count, group_size)),
+                                   cl::NDRange(group_size), nullptr, queue.event());
 }
 
 // One work-group per `block` elements.
-inline void enqueue_blocks(cl::CommandQueue& queue, cl::Kernel& kernel, std::size_t count, std::size_t block,
+inline void enqueue_blocks(Queue& queue, cl::Kernel& kernel, std::size_t count, std::size_t block,
                            std::size_t group_size) {
   if (count == 0) return;
-  queue.enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(divide_round_up(count, block) * group_size),
-                             cl::NDRange(group_size));
+  queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(divide_round_up(count, block) * group_size),
+                                   cl::NDRange(group_size), nullptr, queue.event());
+}
+
+// One work-group of `group_size` items.
+inline void enqueue_group(Queue& queue, cl::Kernel& kernel, std::size_t group_size) {
+  queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(group_size), cl::NDRange(group_size), nullptr,
+                                   queue.event());
+}
+
+// Fills `bytes` bytes from `offset` with copies of `pattern`.
+template <typename T>
+void fill(Queue& queue, const cl::Buffer& buffer, T pattern, std::size_t offset, std::size_t bytes) {
+  queue.get().enqueueFillBuffer(buffer, pattern, offset, bytes, nullptr, queue.event());
 }
 
 // Blocks until the value is read. Used only for the few totals the host needs to size the next step.
-inline std::uint32_t read_uint(cl::CommandQueue& queue, const cl::Buffer& buffer, std::size_t index) {
+inline std::uint32_t read_uint(Queue& queue, const cl::Buffer& buffer, std::size_t index) {
   std::uint32_t value = 0;
-  queue.enqueueReadBuffer(buffer, CL_TRUE, index * sizeof value, sizeof value, &value);
+  queue.get().enqueueReadBuffer(buffer, CL_TRUE, index * sizeof value, sizeof value, &value);
   return value;
 }
 

@@ -20,7 +20,7 @@ std::size_t RadixSort::scan_scratch_bytes(std::size_t count) {
   return Scan::scratch_bytes(histogram_bytes(count) / sizeof(cl_uint));
 }
 
-int RadixSort::sort(cl::CommandQueue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2],
+int RadixSort::sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2],
                     std::size_t count, int key_bits, const cl::Buffer& histogram, const cl::Buffer& block_sums,
                     const cl::Buffer& counters) {
   const auto n = static_cast<cl_uint>(count);

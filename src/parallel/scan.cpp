@@ -17,15 +17,14 @@ std::size_t Scan::scratch_bytes(std::size_t count) {
   return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * sizeof(cl_uint);
 }
 
-void Scan::exclusive(cl::CommandQueue& queue, const cl::Buffer& data, std::size_t count, const cl::Buffer& block_sums,
+void Scan::exclusive(cl_host::Queue& queue, const cl::Buffer& data, std::size_t count, const cl::Buffer& block_sums,
                      const cl::Buffer& counters) {
   const auto n = static_cast<cl_uint>(count);
   const auto blocks = static_cast<cl_uint>(divide_round_up(count, CLR_SCAN_BLOCK));
   cl_host::set_args(reduce_, data, n, block_sums);
   cl_host::enqueue_blocks(queue, reduce_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
   cl_host::set_args(scan_block_sums_, block_sums, blocks, counters);
-  queue.enqueueNDRangeKernel(scan_block_sums_, cl::NullRange, cl::NDRange(CLR_SCAN_GROUP_SIZE),
-                             cl::NDRange(CLR_SCAN_GROUP_SIZE));
+  cl_host::enqueue_group(queue, scan_block_sums_, CLR_SCAN_GROUP_SIZE);
   cl_host::set_args(apply_, data, n, block_sums);
   cl_host::enqueue_blocks(queue, apply_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
 }

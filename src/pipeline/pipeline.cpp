@@ -24,10 +24,10 @@ std::uint32_t primitives_of(int topology, std::uint64_t elements) {
 
 }  // namespace
 
-Pipeline::Pipeline(cl::Context context, cl::CommandQueue queue, const cl::Program& program, int tile_size,
+Pipeline::Pipeline(cl::Context context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
                    std::size_t memory_cap)
     : context_(context),
-      queue_(std::move(queue)),
+      queue_(queue),
       tile_size_(tile_size),
       memory_cap_(memory_cap),
       placeholder_(context, CL_MEM_READ_WRITE, 16),
@@ -46,7 +46,7 @@ Pipeline::Pipeline(cl::Context context, cl::CommandQueue queue, const cl::Progra
 std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count) {
   IndexRangeCache& cache = *source.index_cache;
   if (cache.valid && cache.first == first && cache.count == count) return cache.largest;
-  queue_.enqueueFillBuffer(counters_, cl_uint{0}, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint));
+  cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint));
   cl_host::set_args(index_max_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
   cl_host::enqueue_blocks(queue_, index_max_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
   cache = {true, first, count, read_uint(queue_, counters_, CLR_COUNTER_MAX_INDEX)};
@@ -72,6 +72,7 @@ std::uint32_t Pipeline::last_offset_within(const cl::Buffer& offsets, std::uint3
 
 DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
                          std::uint32_t count, const DrawState& state) {
+  queue_.set_stage(cl_host::Stage::Other);
   const char* elements = source.index_size ? "indices" : "vertices";
   if (first > source.element_count) {
     throw InvalidArgument("draw starts at element " + std::to_string(first) + " but there are only " +
@@ -104,8 +105,8 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   }
   uniforms.index_size = source.index_size;
   uniforms.first = first;
-  queue_.enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms);
-  queue_.enqueueFillBuffer(counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
+  queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
+  cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
 
   const auto tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
   const auto tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
@@ -200,6 +201,7 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   }
   stats.triangles_dropped = read_uint(queue_, counters_, CLR_COUNTER_DROPPED);
   stats.peak_memory_bytes = scratch_.peak_bytes();
+  stats.stage_times = queue_.collect();
   return stats;
 }
 

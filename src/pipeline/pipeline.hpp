@@ -51,7 +51,7 @@ struct DrawSource {
 
 class Pipeline {
  public:
-  Pipeline(cl::Context context, cl::CommandQueue queue, const cl::Program& program, int tile_size,
+  Pipeline(cl::Context context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
            std::size_t memory_cap);
 
   DrawStats draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
@@ -68,7 +68,7 @@ class Pipeline {
   std::uint32_t offset_at(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
 
   cl::Context context_;
-  cl::CommandQueue queue_;
+  cl_host::Queue& queue_;
   int tile_size_;
   std::size_t memory_cap_;
   cl::Buffer placeholder_;  // bound to kernel arguments a draw does not use

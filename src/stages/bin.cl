@@ -9,11 +9,11 @@ __kernel void bin_emit(uint triangle_begin, uint triangle_count, __global const 
   const uint i = get_global_id(0);
   if (i >= triangle_count) return;
   const uint triangle = triangle_begin + i;
-  const uint tile_min = triangles[triangle].tile_min;
-  const uint tile_max = triangles[triangle].tile_max;
+  const uint pixel_min = triangles[triangle].pixel_min;
+  const uint pixel_max = triangles[triangle].pixel_max;
   uint out = pair_offsets[triangle] - pair_base;
-  for (uint ty = tile_min >> 16; ty <= tile_max >> 16; ++ty) {
-    for (uint tx = tile_min & 0xffffu; tx <= (tile_max & 0xffffu); ++tx) {
+  for (uint ty = (pixel_min >> 16) / CLR_TILE_SIZE; ty <= (pixel_max >> 16) / CLR_TILE_SIZE; ++ty) {
+    for (uint tx = (pixel_min & 0xffffu) / CLR_TILE_SIZE; tx <= (pixel_max & 0xffffu) / CLR_TILE_SIZE; ++tx) {
       tile_keys[out] = ty * tiles_x + tx;
       triangle_ids[out] = triangle;
       ++out;

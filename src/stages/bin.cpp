@@ -7,7 +7,8 @@
 
 namespace clraster::stages {
 
-int BinStage::run(cl::CommandQueue& queue, const BinParams& p) {
+int BinStage::run(cl_host::Queue& queue, const BinParams& p) {
+  queue.set_stage(cl_host::Stage::Binning);
   cl_host::set_args(emit_, cl_uint{p.triangle_begin}, cl_uint{p.triangle_count}, p.triangles, p.pair_offsets,
                     cl_uint{p.pair_base}, cl_uint{p.tiles_x}, p.tile_keys[0], p.triangle_ids[0]);
   cl_host::enqueue_items(queue, emit_, p.triangle_count, CLR_ITEM_GROUP_SIZE);
@@ -17,7 +18,7 @@ int BinStage::run(cl::CommandQueue& queue, const BinParams& p) {
   const int sorted = sort_.sort(queue, p.tile_keys, p.triangle_ids, p.pair_count, key_bits, p.histogram,
                                 p.block_sums, p.counters);
 
-  queue.enqueueFillBuffer(p.tile_ranges, cl_uint{0}, 0, std::size_t{p.tile_count} * 2 * sizeof(cl_uint));
+  cl_host::fill(queue, p.tile_ranges, cl_uint{0}, 0, std::size_t{p.tile_count} * 2 * sizeof(cl_uint));
   cl_host::set_args(ranges_, p.tile_keys[sorted], cl_uint{p.pair_count}, p.tile_ranges);
   cl_host::enqueue_items(queue, ranges_, p.pair_count, CLR_ITEM_GROUP_SIZE);
   return sorted;

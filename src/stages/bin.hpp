@@ -31,7 +31,7 @@ class BinStage {
       : sort_(sort), emit_(program, "bin_emit"), ranges_(program, "tile_ranges") {}
 
   // Returns the index (0 or 1) of the triangle_ids buffer that holds the sorted ids.
-  int run(cl::CommandQueue& queue, const BinParams& params);
+  int run(cl_host::Queue& queue, const BinParams& params);
 
  private:
   parallel::RadixSort& sort_;

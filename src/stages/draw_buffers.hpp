@@ -1,6 +1,8 @@
 // The buffers every geometry stage of a draw reads.
 #pragma once
 
+#include "cl/queue.hpp"
+
 #include <CL/opencl.hpp>
 
 namespace clraster::stages {

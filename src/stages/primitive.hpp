@@ -21,7 +21,7 @@ struct PrimitiveParams {
 class PrimitiveStage {
  public:
   explicit PrimitiveStage(const cl::Program& program) : kernel_(program, "primitive_count") {}
-  void run(cl::CommandQueue& queue, const PrimitiveParams& params);
+  void run(cl_host::Queue& queue, const PrimitiveParams& params);
 
  private:
   cl::Kernel kernel_;

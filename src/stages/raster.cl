@@ -6,7 +6,14 @@
  * and its colour and depth stay in the work-item's registers from the first triangle to the last:
  * no atomics, no races, and the same result on every run. */
 
-inline bool triangle_covers(const __local SetupTriangle* t, long X, long Y, long* e) {
+inline bool triangle_covers(const __local SetupTriangle* t, int x, int y, long* e) {
+  /* The bounding box rejects most pixels of a tile with a few 32-bit comparisons. */
+  if (x < (int)(t->pixel_min & 0xffffu) || x > (int)(t->pixel_max & 0xffffu) || y < (int)(t->pixel_min >> 16) ||
+      y > (int)(t->pixel_max >> 16)) {
+    return false;
+  }
+  const long X = (long)x << CLR_SUBPIXEL_BITS;
+  const long Y = (long)y << CLR_SUBPIXEL_BITS;
   bool covered = true;
   for (int k = 0; k < 3; ++k) {
     e[k] = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
@@ -64,10 +71,10 @@ inline uint blend(int mode, uint source, uint destination) {
   return source;
 }
 
-inline void rasterize_pixel(const __local SetupTriangle* t, long X, long Y, __constant const DrawUniforms* u,
+inline void rasterize_pixel(const __local SetupTriangle* t, int x, int y, __constant const DrawUniforms* u,
                             uint* color, float* depth) {
   long e[3];
-  if (!triangle_covers(t, X, Y, e)) return;
+  if (!triangle_covers(t, x, y, e)) return;
   const float3 l = (float3)((float)e[0], (float)e[1], (float)e[2]) * t->inv_double_area;
   /* Depth is linear in window space; OpenGL clamps it to the depth range. */
   const float z = clamp(l.x * t->z[0] + l.y * t->z[1] + l.z * t->z[2], 0.0f, 1.0f);
@@ -101,8 +108,6 @@ void raster_tiles(__global const SetupTriangle* triangles, __global const uint* 
   const uint pixel = (uint)y * framebuffer_width + (uint)x;
   uint pixel_color = writable ? color[pixel] : 0u;
   float pixel_depth = writable ? depth[pixel] : 0.0f;
-  const long X = (long)x << CLR_SUBPIXEL_BITS;
-  const long Y = (long)y << CLR_SUBPIXEL_BITS;
   const uint lid = get_local_id(1) * CLR_TILE_SIZE + get_local_id(0);
 
   for (uint base = begin; base < end; base += CLR_RASTER_TRIANGLE_BATCH) {
@@ -110,8 +115,9 @@ void raster_tiles(__global const SetupTriangle* triangles, __global const uint* 
     barrier(CLK_LOCAL_MEM_FENCE); /* everyone is done with the previous batch */
     for (uint i = lid; i < n; i += CLR_TILE_SIZE * CLR_TILE_SIZE) batch[i] = triangles[sorted_triangles[base + i]];
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (writable) {
-      for (uint i = 0; i < n; ++i) rasterize_pixel(&batch[i], X, Y, u, &pixel_color, &pixel_depth);
+    for (uint i = 0; i < n; ++i) {
+      if (writable) rasterize_pixel(&batch[i], x, y, u, &pixel_color, &pixel_depth);
+      barrier(CLK_LOCAL_MEM_FENCE);
     }
   }
   if (writable) {

@@ -2,6 +2,8 @@
 // work-group per tile that has triangles binned to it.
 #pragma once
 
+#include "cl/queue.hpp"
+
 #include <CL/opencl.hpp>
 
 #include <cstdint>
@@ -24,7 +26,7 @@ struct RasterParams {
 class RasterStage {
  public:
   explicit RasterStage(const cl::Program& program) : kernel_(program, "raster_tiles") {}
-  void run(cl::CommandQueue& queue, const RasterParams& params);
+  void run(cl_host::Queue& queue, const RasterParams& params);
 
  private:
   cl::Kernel kernel_;

@@ -33,11 +33,11 @@ inline void write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1,
 
   int2 lo, hi;
   pixel_bounds(v0->fixed, v1->fixed, v2->fixed, u, &lo, &hi);
+  t.pixel_min = (uint)lo.x | (uint)lo.y << 16;
+  t.pixel_max = (uint)hi.x | (uint)hi.y << 16;
+  *out = t;
   const int2 tile_lo = lo / CLR_TILE_SIZE;
   const int2 tile_hi = hi / CLR_TILE_SIZE;
-  t.tile_min = (uint)tile_lo.x | (uint)tile_lo.y << 16;
-  t.tile_max = (uint)tile_hi.x | (uint)tile_hi.y << 16;
-  *out = t;
   *pair_count = (uint)((tile_hi.x - tile_lo.x + 1) * (tile_hi.y - tile_lo.y + 1));
 }
 

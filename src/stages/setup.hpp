@@ -23,7 +23,7 @@ struct SetupParams {
 class SetupStage {
  public:
   explicit SetupStage(const cl::Program& program) : kernel_(program, "triangle_setup") {}
-  void run(cl::CommandQueue& queue, const SetupParams& params);
+  void run(cl_host::Queue& queue, const SetupParams& params);
 
  private:
   cl::Kernel kernel_;

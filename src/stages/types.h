@@ -104,8 +104,8 @@ typedef struct {
   clr_float inv_double_area;               /* 1 / (2 * area), area in fixed-point units squared */
   clr_uint primitive_id;
   clr_uint flags;                          /* bits 0-2: edge includes centres on it; bit 3: front */
-  clr_uint tile_min;                       /* first tile covered by the bounding box: x | y << 16 */
-  clr_uint tile_max;                       /* last tile (inclusive) */
+  clr_uint pixel_min;                      /* writable pixels in the bounding box: x | y << 16 ... */
+  clr_uint pixel_max;                      /* ... to x | y << 16, inclusive */
 } SetupTriangle;
 
 /* ---- Counters the host reads back (one small buffer per context) -------------------------------- */

@@ -5,7 +5,8 @@
 
 namespace clraster::stages {
 
-void VertexStage::run(cl::CommandQueue& queue, const VertexParams& p) {
+void VertexStage::run(cl_host::Queue& queue, const VertexParams& p) {
+  queue.set_stage(cl_host::Stage::Vertex);
   cl_host::set_args(kernel_, p.draw->positions, p.draw->normals, cl_int{p.draw->has_normals}, p.draw->indices,
                     cl_int{p.shade_all}, cl_uint{p.stream_begin}, cl_uint{p.main_count}, cl_uint{p.slot_count},
                     p.draw->uniforms, p.shaded);

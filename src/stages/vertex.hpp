@@ -19,7 +19,7 @@ struct VertexParams {
 class VertexStage {
  public:
   explicit VertexStage(const cl::Program& program) : kernel_(program, "vertex_shade") {}
-  void run(cl::CommandQueue& queue, const VertexParams& params);
+  void run(cl_host::Queue& queue, const VertexParams& params);
 
  private:
   cl::Kernel kernel_;
