@@ -1,0 +1,74 @@
+#include "io/image_io.hpp"
+
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+namespace clraster::io {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+// Opens the file ourselves rather than handing stb a path, so that failures carry the real
+// errno reason ("No such file or directory", "Permission denied") instead of stb's generic one.
+File open_or_throw(const std::string& path, const char* mode, const char* verb) {
+  File file(std::fopen(path.c_str(), mode));
+  if (!file) throw Error(std::string("cannot ") + verb + " " + path + ": " + std::strerror(errno));
+  return file;
+}
+
+// Where stbi_write_png_to_func streams the encoded bytes; remembers whether any write failed.
+struct PngSink {
+  std::FILE* file;
+  int error = 0;
+
+  static void write(void* context, void* data, int size) {
+    auto& sink = *static_cast<PngSink*>(context);
+    if (sink.error == 0 && std::fwrite(data, 1, size, sink.file) != static_cast<std::size_t>(size)) {
+      sink.error = errno;
+    }
+  }
+};
+
+}  // namespace
+
+Image load_png(const std::string& path) {
+  File file = open_or_throw(path, "rb", "read");
+  int width = 0, height = 0, channels_in_file = 0;
+  std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> pixels(
+      stbi_load_from_file(file.get(), &width, &height, &channels_in_file, 4), &stbi_image_free);
+  if (!pixels) {
+    // A read error (a directory, an I/O error) is the system's to explain; anything else is stb's.
+    if (std::ferror(file.get())) throw Error("cannot read " + path + ": " + std::strerror(errno));
+    throw Error("cannot decode " + path + ": " + stbi_failure_reason());
+  }
+
+  Image image{width, height, {}};
+  image.rgba.assign(pixels.get(), pixels.get() + std::size_t(width) * height * 4);
+  return image;
+}
+
+void save_png(const std::string& path, const Image& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgba.size() != std::size_t(image.width) * image.height * 4) {
+    throw InvalidArgument("cannot write " + path + ": image of " + std::to_string(image.width) + "x" +
+                          std::to_string(image.height) + " pixels has " + std::to_string(image.rgba.size()) +
+                          " bytes of RGBA data");
+  }
+  File file = open_or_throw(path, "wb", "write");
+  PngSink sink{file.get()};
+  const int encoded = stbi_write_png_to_func(&PngSink::write, &sink, image.width, image.height, 4,
+                                             image.rgba.data(), image.width * 4);
+  if (std::fflush(file.get()) != 0 && sink.error == 0) sink.error = errno;
+  if (sink.error != 0) throw Error("cannot write " + path + ": " + std::strerror(sink.error));
+  if (!encoded) throw Error("cannot write " + path + ": PNG encoding failed");
+}
+
+}  // namespace clraster::io

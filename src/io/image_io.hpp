@@ -1,0 +1,19 @@
+// Reading and writing pictures as files (stb_image / stb_image_write).
+#pragma once
+
+#include <string>
+
+#include "clraster/clraster.hpp"
+
+namespace clraster::io {
+
+// Reads any image file stb_image understands (PNG, JPEG, BMP, TGA, ...) as RGBA8, rows top to
+// bottom. Throws clraster::Error naming the path and why it could not be read or decoded.
+clraster::Image load_png(const std::string& path);
+
+// Writes an RGBA8 image as PNG, replacing the file. Throws clraster::InvalidArgument when the
+// image's size and pixel data disagree, and clraster::Error naming the path and the system's
+// reason when the file cannot be written.
+void save_png(const std::string& path, const clraster::Image& image);
+
+}  // namespace clraster::io
