@@ -1,0 +1,45 @@
+// The clraster command line: one function per subcommand, each a thin client of the library.
+#pragma once
+
+#include "io/camera.hpp"
+
+#include <optional>
+#include <string>
+
+namespace clraster::cli {
+
+enum class Backend { Clraster, Gl };
+enum class ShadingOption { Normal, Lambert, Depth, Overdraw };
+
+struct RenderOptions {
+  std::string model;  // empty: the built-in demo scene
+  std::string output;
+  int width = 1280;
+  int height = 720;
+  std::optional<glm::vec3> eye, target, up;
+  float fov_degrees = 45;
+  std::optional<float> near_plane, far_plane;
+  ShadingOption shading = ShadingOption::Normal;
+  CullMode cull = CullMode::None;
+  int frames = 0;  // timed frames after the warm-up frame
+  bool stats = false;
+  int device = -1;
+  Backend backend = Backend::Clraster;
+  std::size_t memory_cap = kDefaultMemoryCap;
+  int tile_size = 16;
+};
+
+struct CompareOptions {
+  std::string a, b;
+  int threshold = 8;
+  std::string diff_output;  // empty: no diff picture
+};
+
+int render(const RenderOptions& options);
+int compare(const CompareOptions& options);
+int devices();
+
+// The camera a render uses: fitted to the scene's bounding sphere, then overridden by the options.
+io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds);
+
+}  // namespace clraster::cli

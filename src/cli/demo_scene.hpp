@@ -1,0 +1,12 @@
+// The built-in demo scene that `clraster render` draws when it is given no model file.
+#pragma once
+
+#include "io/mesh.hpp"
+
+namespace clraster::cli {
+
+// A landscape with a torus, spheres and boxes standing on it: procedural, no files needed, a few
+// hundred thousand triangles of every size from sub-pixel to screen-filling.
+io::Mesh make_demo_scene();
+
+}  // namespace clraster::cli

@@ -1,0 +1,151 @@
+// clraster: the command-line renderer. Parses the command line (CLI11) and hands over to the
+// subcommands in render_command.cpp and compare_command.cpp.
+#include "cli/commands.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <iostream>
+#include <map>
+
+namespace {
+
+using namespace clraster;
+using namespace clraster::cli;
+
+// "1920x1080" -> width, height in 1..16384.
+void parse_size(const std::string& text, int& width, int& height) {
+  int w = 0, h = 0;
+  char x = 0, rest = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || (x != 'x' && x != 'X')) {
+    throw InvalidArgument("--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got '" + text + "'");
+  }
+  if (w < 1 || h < 1 || w > 16384 || h > 16384) {
+    throw InvalidArgument("--size " + text + " is out of range: each side must be 1..16384");
+  }
+  width = w;
+  height = h;
+}
+
+// CLI11 takes "-3,1,2" after "--eye" for an option name; joining such a value to its option
+// ("--eye=-3,1,2") lets both spellings work.
+std::vector<std::string> join_negative_values(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  std::vector<std::string> joined;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& next = i + 1 < args.size() ? args[i + 1] : std::string();
+    const bool negative_number = next.size() > 1 && next[0] == '-' &&
+                                 (std::isdigit(static_cast<unsigned char>(next[1])) || next[1] == '.');
+    if (args[i].rfind("--", 0) == 0 && args[i].find('=') == std::string::npos && negative_number) {
+      joined.push_back(args[i] + "=" + next);
+      ++i;
+    } else {
+      joined.push_back(args[i]);
+    }
+  }
+  std::reverse(joined.begin(), joined.end());  // CLI11 parses a vector from its back
+  return joined;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"clraster: a programmable graphics pipeline in OpenCL kernels, on any OpenCL device.", "clraster"};
+  app.set_version_flag("--version", std::string("clraster ") + clraster::version());
+  app.require_subcommand(1);
+
+  RenderOptions render_options;
+  std::string size = "1280x720", eye, target, up;
+  float near_plane = 0, far_plane = 0;
+  std::size_t memory_cap_mib = kDefaultMemoryCap >> 20;
+  CLI::App* render = app.add_subcommand("render", "Render a model file (or the built-in demo scene) to a PNG picture");
+  render->add_option("model", render_options.model, "Model file: OBJ, glTF 2.0 (.gltf/.glb), PLY, STL, OFF, ... "
+                                                     "(default: the built-in demo scene)");
+  render->add_option("-o,--output", render_options.output, "PNG file to write")->required();
+  render->add_option("--size", size, "Picture size WIDTHxHEIGHT, each 1..16384")->capture_default_str();
+  render->add_option("--eye", eye, "Camera position X,Y,Z (default: fitted to the scene's bounding sphere)");
+  render->add_option("--target", target, "Point the camera looks at X,Y,Z (default: the bounding sphere's centre)");
+  render->add_option("--up", up, "Camera up direction X,Y,Z (default: 0,1,0)");
+  render->add_option("--fov", render_options.fov_degrees, "Vertical field of view in degrees, in (0, 180)")
+      ->capture_default_str();
+  CLI::Option* near_option = render->add_option("--near", near_plane, "Near plane distance (default: fitted)");
+  CLI::Option* far_option = render->add_option("--far", far_plane, "Far plane distance (default: fitted)");
+  render->add_option("--shading", render_options.shading,
+                     "normal: object-space normal as colour; lambert: grey lit by a headlight; depth: view "
+                     "distance as grey, near white; overdraw: red = fragments per pixel, no depth test")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ShadingOption>{{"normal", ShadingOption::Normal},
+                                                                               {"lambert", ShadingOption::Lambert},
+                                                                               {"depth", ShadingOption::Depth},
+                                                                               {"overdraw", ShadingOption::Overdraw}},
+                                          CLI::ignore_case))
+      ->option_text("normal|lambert|depth|overdraw (default: normal)");
+  render->add_option("--cull", render_options.cull, "Face culling: none, back or front")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, CullMode>{{"none", CullMode::None}, {"back", CullMode::Back}, {"front", CullMode::Front}},
+          CLI::ignore_case))
+      ->option_text("none|back|front (default: none)");
+  render->add_option("--frames", render_options.frames, "Timed frames after one warm-up frame")
+      ->check(CLI::Range(0, 100000));
+  render->add_flag("--stats", render_options.stats, "Print one JSON line of statistics and timings");
+  render->add_option("--device", render_options.device, "OpenCL device index (see `clraster devices`; "
+                                                        "default: $CLRASTER_DEVICE, else 0)")
+      ->check(CLI::NonNegativeNumber);
+  render->add_option("--backend", render_options.backend, "clraster, or gl: the same scene with the system's OpenGL")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Backend>{{"clraster", Backend::Clraster}, {"gl", Backend::Gl}},
+                                          CLI::ignore_case))
+      ->option_text("clraster|gl (default: clraster)");
+  render->add_option("--memory-cap", memory_cap_mib, "Cap on the pipeline's intermediate buffers, MiB")
+      ->check(CLI::Range(std::size_t{kMinMemoryCap >> 20}, std::size_t{1} << 20))
+      ->capture_default_str();
+  render->add_option("--tile-size", render_options.tile_size, "Pixels per tile side: 8, 16 or 32")
+      ->check(CLI::IsMember({8, 16, 32}))
+      ->capture_default_str();
+
+  CompareOptions compare_options;
+  CLI::App* compare = app.add_subcommand("compare", "Print, as JSON, how far two pictures differ");
+  compare->add_option("a", compare_options.a, "First picture")->required();
+  compare->add_option("b", compare_options.b, "Second picture")->required();
+  compare->add_option("--threshold", compare_options.threshold,
+                      "Largest channel difference that still counts as the same colour")
+      ->check(CLI::Range(0, 255))
+      ->capture_default_str();
+  compare->add_option("--diff", compare_options.diff_output, "Also write a picture of the differences");
+
+  CLI::App* devices = app.add_subcommand("devices", "List the OpenCL devices");
+
+  // CLI11 would call an unknown command a missing one; name it instead.
+  const std::vector<CLI::App*> commands = app.get_subcommands({});
+  if (argc > 1 && argv[1][0] != '-' &&
+      std::none_of(commands.begin(), commands.end(), [&](CLI::App* c) { return c->get_name() == argv[1]; })) {
+    std::cerr << "clraster: error: unknown command '" << argv[1] << "' (commands: render, compare, devices; see --help)\n";
+    return 2;
+  }
+  try {
+    app.parse(join_negative_values(argc, argv));
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+
+  try {
+    if (*render) {
+      parse_size(size, render_options.width, render_options.height);
+      if (!eye.empty()) render_options.eye = io::parse_vec3(eye, "--eye");
+      if (!target.empty()) render_options.target = io::parse_vec3(target, "--target");
+      if (!up.empty()) render_options.up = io::parse_vec3(up, "--up");
+      if (*near_option) render_options.near_plane = near_plane;
+      if (*far_option) render_options.far_plane = far_plane;
+      render_options.memory_cap = memory_cap_mib << 20;
+      return cli::render(render_options);
+    }
+    if (*compare) return cli::compare(compare_options);
+    if (*devices) return cli::devices();
+  } catch (const BuildError& error) {
+    std::cerr << "clraster: error: " << error.what() << '\n' << error.log() << '\n';
+    return 1;
+  } catch (const std::exception& error) {
+    std::cerr << "clraster: error: " << error.what() << '\n';
+    return 1;
+  }
+  return 0;
+}
