@@ -92,7 +92,8 @@ struct ContextOptions {
   // Side of the square screen tile that one work-group rasterizes: 8, 16 or 32 pixels.
   int tile_size = 16;
   // Where built program binaries are kept between runs. Empty: $CLRASTER_CACHE_DIR, else
-  // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" disables the on-disk cache.
+  // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" (here or in $CLRASTER_CACHE_DIR)
+  // disables the on-disk cache.
   std::string cache_dir;
   // Measure each pipeline stage's device time (DrawStats::stage_times). Costs a little per command.
   bool profile = false;

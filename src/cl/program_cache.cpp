@@ -43,8 +43,8 @@ bool read_u64(std::istream& in, std::uint64_t& value) {
 
 ProgramCache::ProgramCache(cl::Context context, Device device, const std::string& cache_dir)
     : context_(std::move(context)), device_(std::move(device)) {
-  if (cache_dir == "off") return;
   directory_ = cache_dir.empty() ? default_cache_directory() : std::filesystem::path(cache_dir);
+  if (directory_ == "off") directory_.clear();
 }
 
 std::filesystem::path ProgramCache::entry_path(const std::string& key) const {

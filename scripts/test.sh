@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds clraster and runs the whole test suite:
+#   1. every test of the release build (unit, OpenGL conformance, models, bad input, Oclgrind);
+#   2. the host code rebuilt with AddressSanitizer and UndefinedBehaviorSanitizer, running the unit
+#      and bad-input tests.
+# Failing image tests leave reference.png, result.png and diff.png under build/test-output/.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+"$root/scripts/setup.sh"
+
+"$root/scripts/build.sh" "$root/build"
+(cd "$root/build" && ctest --output-on-failure -j "$(nproc)")
+
+"$root/scripts/build.sh" "$root/build-sanitize" -DCLRASTER_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+(cd "$root/build-sanitize" && ctest --output-on-failure -j "$(nproc)" -L sanitize)
+echo "test: all tests passed"
