@@ -4,6 +4,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <assimp/DefaultLogger.hpp>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -13,7 +16,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 #include "clraster/clraster.hpp"
 #include "io/mesh.hpp"
@@ -27,40 +34,30 @@ namespace fs = std::filesystem;
 // Installed by the assimp-testmodels package (scripts/setup.sh).
 const fs::path kModels = "/usr/share/assimp/models";
 
-struct Vec3 {
-  double x, y, z;
-};
-
-Vec3 position(const Mesh& mesh, std::uint32_t v) {
+glm::dvec3 position(const Mesh& mesh, std::uint32_t v) {
   return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
 }
-Vec3 normal(const Mesh& mesh, std::uint32_t v) {
+glm::dvec3 normal(const Mesh& mesh, std::uint32_t v) {
   return {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
 }
-Vec3 corner(const Mesh& mesh, std::size_t triangle, int k) { return position(mesh, mesh.indices[3 * triangle + k]); }
+glm::dvec3 corner(const Mesh& mesh, std::size_t triangle, int k) {
+  return position(mesh, mesh.indices[3 * triangle + k]);
+}
 
 // cross(v1 - v0, v2 - v0): the face normal times twice the area.
-Vec3 face_cross(const Mesh& mesh, std::size_t triangle) {
-  const Vec3 a = corner(mesh, triangle, 0), b = corner(mesh, triangle, 1), c = corner(mesh, triangle, 2);
-  const Vec3 e1{b.x - a.x, b.y - a.y, b.z - a.z}, e2{c.x - a.x, c.y - a.y, c.z - a.z};
-  return {e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x};
+glm::dvec3 face_cross(const Mesh& mesh, std::size_t triangle) {
+  const glm::dvec3 v0 = corner(mesh, triangle, 0);
+  return glm::cross(corner(mesh, triangle, 1) - v0, corner(mesh, triangle, 2) - v0);
 }
 
-double length(Vec3 v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
-
-Vec3 unit_face_normal(const Mesh& mesh, std::size_t triangle) {
-  const Vec3 n = face_cross(mesh, triangle);
-  return {n.x / length(n), n.y / length(n), n.z / length(n)};
-}
-
-testing::AssertionResult near(Vec3 actual, Vec3 expected, double tolerance) {
-  if (std::abs(actual.x - expected.x) <= tolerance && std::abs(actual.y - expected.y) <= tolerance &&
-      std::abs(actual.z - expected.z) <= tolerance) {
+testing::AssertionResult near(glm::dvec3 actual, glm::dvec3 expected, double tolerance) {
+  if (glm::all(glm::lessThanEqual(glm::abs(actual - expected), glm::dvec3(tolerance)))) {
     return testing::AssertionSuccess();
   }
-  return testing::AssertionFailure() << "(" << actual.x << ", " << actual.y << ", " << actual.z << ") is not within "
-                                     << tolerance << " of (" << expected.x << ", " << expected.y << ", "
-                                     << expected.z << ")";
+  const auto text = [](glm::dvec3 v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+  };
+  return testing::AssertionFailure() << text(actual) << " is not within " << tolerance << " of " << text(expected);
 }
 
 Mesh load(const fs::path& path) {
@@ -196,9 +193,10 @@ std::size_t gltf_triangles(const fs::path& path) {
     std::size_t triangles = 0;
     if (node.contains("mesh")) {
       for (const auto& primitive : document["meshes"][node["mesh"].get<std::size_t>()]["primitives"]) {
-        const std::size_t corners = primitive.contains("indices")
-                                        ? accessors[primitive["indices"].get<std::size_t>()]["count"].get<std::size_t>()
-                                        : accessors[primitive["attributes"]["POSITION"].get<std::size_t>()]["count"].get<std::size_t>();
+        // Corners: the index count, or the vertex count when the primitive has no indices.
+        const auto& corner_accessor =
+            primitive.contains("indices") ? primitive["indices"] : primitive["attributes"]["POSITION"];
+        const auto corners = accessors[corner_accessor.get<std::size_t>()]["count"].get<std::size_t>();
         const int mode = primitive.value("mode", 4);
         if (mode == 4) triangles += corners / 3;
         if (mode == 5 || mode == 6) triangles += corners - 2;
@@ -217,8 +215,10 @@ std::size_t gltf_triangles(const fs::path& path) {
 void expect_unit_normals(const Mesh& mesh) {
   ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    if (length(face_cross(mesh, t)) == 0) continue;
-    for (int k = 0; k < 3; ++k) ASSERT_NEAR(length(normal(mesh, mesh.indices[3 * t + k])), 1.0, 1e-5) << "triangle " << t;
+    if (glm::length(face_cross(mesh, t)) == 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_NEAR(glm::length(normal(mesh, mesh.indices[3 * t + k])), 1.0, 1e-5) << "triangle " << t;
+    }
   }
 }
 
@@ -357,7 +357,7 @@ TEST(LoadModel, GltfWithoutNormalsGetsFlatNormals) {
   ASSERT_EQ(mesh.triangle_count(), gltf_triangles(path));
   EXPECT_EQ(mesh.vertex_count(), 3 * mesh.triangle_count());
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const Vec3 expected = unit_face_normal(mesh, t);
+    const glm::dvec3 expected = glm::normalize(face_cross(mesh, t));
     for (int k = 0; k < 3; ++k) {
       EXPECT_EQ(mesh.indices[3 * t + k], 3 * t + k);
       EXPECT_TRUE(near(normal(mesh, mesh.indices[3 * t + k]), expected, 1e-6));
@@ -396,7 +396,7 @@ TEST_F(CraftedModel, ObjWithoutNormalsIsSmoothedAcrossFacesByArea) {
   // assimp gives every face corner its own vertex: the smoothing goes by position.
   EXPECT_EQ(mesh.vertex_count(), 36u);
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const Vec3 p = position(mesh, v);
+    const glm::dvec3 p = position(mesh, v);
     const double sx = p.x > 0.5 ? 1 : -1, sy = p.y > 1 ? 1 : -1, sz = p.z > 1.5 ? 1 : -1;
     EXPECT_TRUE(near(normal(mesh, v), {6 * sx / 7, 3 * sy / 7, 2 * sz / 7}, 1e-6)) << "vertex " << v;
   }
@@ -461,6 +461,39 @@ TEST_F(CraftedModel, IndicesOfVerticesThatDoNotExistAreErrors) {
     load_error(file);
   }
   EXPECT_NE(load_error(files[2]).find("vertices that do not exist"), std::string::npos);
+}
+
+TEST_F(CraftedModel, ConcurrentLoadsEachSeeTheirOwnRepairs) {
+  // The repair shows only in assimp's process-wide log: a load must neither miss its own warning
+  // nor fail on another thread's.
+  const fs::path good = write("good.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const fs::path bad = write("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+  std::atomic<int> loaded = 0, refused = 0;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&] {
+      for (int i = 0; i < 20; ++i) {
+        std::vector<std::string> warnings;
+        loaded += load_model(good.string(), warnings).triangle_count() == 1;
+        try {
+          load_model(bad.string(), warnings);
+        } catch (const InvalidArgument&) {
+          ++refused;
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(loaded, 80);
+  EXPECT_EQ(refused, 80);
+}
+
+TEST(LoadModel, LeavesTheApplicationsLoggerInPlace) {
+  Assimp::DefaultLogger::create(nullptr, Assimp::Logger::NORMAL, 0);
+  const Assimp::Logger* installed = Assimp::DefaultLogger::get();
+  load(kModels / "OBJ/box.obj");
+  EXPECT_EQ(Assimp::DefaultLogger::get(), installed);
+  Assimp::DefaultLogger::kill();
 }
 
 TEST(LoadModel, GltfIndicesOutOfRangeAreErrors) {
@@ -548,9 +581,8 @@ TEST(BoundingSphere, ContainsEveryVertexOfARealModel) {
   const Mesh mesh = load(kModels / "OBJ/spider.obj");
   const BoundingSphere sphere = bounding_sphere(mesh);
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const Vec3 p = position(mesh, v);
-    ASSERT_LE(length({p.x - sphere.center.x, p.y - sphere.center.y, p.z - sphere.center.z}), sphere.radius)
-        << "vertex " << v;
+    const glm::dvec3 center(sphere.center.x, sphere.center.y, sphere.center.z);
+    ASSERT_LE(glm::distance(position(mesh, v), center), sphere.radius) << "vertex " << v;
   }
 }
 
