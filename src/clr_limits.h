@@ -37,7 +37,8 @@
 #define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
 
 /* ---- Rasterization ----------------------------------------------------------------------------- */
-#define CLR_DEFAULT_TILE_SIZE 16   /* pixels per tile side; one work-group per tile */
+/* The tile size (pixels per side, one work-group per tile) is a context option; its default is
+ * clraster::kDefaultTileSize in clraster.hpp, as is the default memory cap. */
 #define CLR_RASTER_TRIANGLE_BATCH 64 /* set-up triangles staged in local memory at a time */
 
 /* ---- Memory budget -----------------------------------------------------------------------------

@@ -69,10 +69,11 @@ class KernelTest : public ::testing::Test {
 
   ContextState& state() { return *shared_context().impl().state; }
 
+  // A device copy of `data`, padded to at least 16 bytes.
   template <typename T>
-  cl::Buffer buffer(const std::vector<T>& data) {
-    return cl::Buffer(state().context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, std::max<std::size_t>(16, data.size() * sizeof(T)),
-                      const_cast<T*>(data.data()));
+  cl::Buffer buffer(std::vector<T> data) {
+    data.resize(std::max<std::size_t>(data.size(), (16 + sizeof(T) - 1) / sizeof(T)));
+    return cl::Buffer(state().context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, data.size() * sizeof(T), data.data());
   }
 
   template <typename T>
@@ -300,6 +301,24 @@ TEST_F(KernelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
     EXPECT_EQ(read<cl_uint>(device, n), expected) << "n = " << n;
     EXPECT_EQ(read<cl_uint>(counters, 1)[CLR_COUNTER_SCAN_TOTAL], std::accumulate(data.begin(), data.end(), cl_uint{0}));
   }
+}
+
+TEST_F(KernelTest, ExclusiveScanSaturatesInsteadOfWrapping) {
+  // Bin pair counts can add up past 2^32: offsets must stay monotone so the host can split there.
+  ContextState& s = state();
+  parallel::Scan scan(program_);
+  cl::Buffer counters = buffer(std::vector<cl_uint>(CLR_COUNTER_COUNT));
+  const std::size_t n = 2 * CLR_SCAN_BLOCK + 5;
+  std::vector<cl_uint> data(n, 1u << 22);  // 2^22 * 4101 > 2^32 after 1024 elements
+  cl::Buffer device = buffer(data);
+  cl::Buffer block_sums(s.context, CL_MEM_READ_WRITE, parallel::Scan::scratch_bytes(n));
+  scan.exclusive(s.queue, device, n, block_sums, counters);
+  const std::vector<cl_uint> result = read<cl_uint>(device, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t exact = std::uint64_t{i} << 22;
+    ASSERT_EQ(result[i], std::min<std::uint64_t>(exact, 0xffffffffu)) << i;
+  }
+  EXPECT_EQ(read<cl_uint>(counters, 1)[CLR_COUNTER_SCAN_TOTAL], 0xffffffffu);
 }
 
 TEST_F(KernelTest, RadixSortIsStable) {

@@ -80,6 +80,9 @@ std::vector<DeviceInfo> list_devices();
 
 inline constexpr std::size_t kDefaultMemoryCap = std::size_t{256} << 20;
 inline constexpr std::size_t kMinMemoryCap = std::size_t{4} << 20;
+// 8x8-pixel tiles: small triangles are tested against few pixels, and a tile is one 64-wide
+// work-group, the shape both GPUs and PoCL's vectorizer like.
+inline constexpr int kDefaultTileSize = 8;
 
 struct ContextOptions {
   // Index into list_devices(). -1 takes the CLRASTER_DEVICE environment variable when it is set,
@@ -90,7 +93,7 @@ struct ContextOptions {
   // At least kMinMemoryCap.
   std::size_t memory_cap = kDefaultMemoryCap;
   // Side of the square screen tile that one work-group rasterizes: 8, 16 or 32 pixels.
-  int tile_size = 16;
+  int tile_size = kDefaultTileSize;
   // Where built program binaries are kept between runs. Empty: $CLRASTER_CACHE_DIR, else
   // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" (here or in $CLRASTER_CACHE_DIR)
   // disables the on-disk cache.

@@ -26,7 +26,7 @@ struct RenderOptions {
   int device = -1;
   Backend backend = Backend::Clraster;
   std::size_t memory_cap = kDefaultMemoryCap;
-  int tile_size = 16;
+  int tile_size = kDefaultTileSize;
 };
 
 struct CompareOptions {

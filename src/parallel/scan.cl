@@ -2,7 +2,9 @@
  *   scan_reduce      one work-group per block of CLR_SCAN_BLOCK elements writes the block's sum;
  *   scan_block_sums  one work-group scans the block sums (any number of them, in rounds);
  *   scan_apply       one work-group per block scans its block and adds the block's offset.
- * Integer sums are exact, so the result does not depend on the order of the additions. */
+ * Sums saturate at UINT_MAX instead of wrapping: saturating addition of non-negative values is still
+ * associative, so the result does not depend on the order of the additions, and a scan whose true
+ * total does not fit in 32 bits stays monotone, with a total of UINT_MAX the host can recognize. */
 
 /* Exclusive scan of one value per work-item across the work-group (CLR_SCAN_GROUP_SIZE items).
  * Returns the item's prefix; *total receives the sum over the group. Hillis-Steele in local memory:
@@ -14,13 +16,14 @@ uint work_group_exclusive_scan(uint value, __local uint* scratch, uint* total) {
   for (uint offset = 1; offset < CLR_SCAN_GROUP_SIZE; offset <<= 1) {
     const uint add = lid >= offset ? scratch[lid - offset] : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
-    scratch[lid] += add;
+    scratch[lid] = add_sat(scratch[lid], add);
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  const uint inclusive = scratch[lid];
+  /* The item's prefix is the inclusive sum of the items before it. */
+  const uint exclusive = lid > 0 ? scratch[lid - 1] : 0u;
   *total = scratch[CLR_SCAN_GROUP_SIZE - 1];
   barrier(CLK_LOCAL_MEM_FENCE); /* scratch may be reused right after */
-  return inclusive - value;
+  return exclusive;
 }
 
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
@@ -31,7 +34,7 @@ void scan_reduce(__global const uint* data, uint count, __global uint* block_sum
   /* Strided so that neighbouring work-items read neighbouring elements. */
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     const uint index = begin + i * CLR_SCAN_GROUP_SIZE + get_local_id(0);
-    if (index < count) sum += data[index];
+    if (index < count) sum = add_sat(sum, data[index]);
   }
   uint total;
   work_group_exclusive_scan(sum, scratch, &total);
@@ -49,8 +52,8 @@ void scan_block_sums(__global uint* block_sums, uint block_count, __global uint*
     const uint value = index < block_count ? block_sums[index] : 0u;
     uint round_total;
     const uint prefix = work_group_exclusive_scan(value, scratch, &round_total);
-    if (index < block_count) block_sums[index] = carry + prefix;
-    carry += round_total;
+    if (index < block_count) block_sums[index] = add_sat(carry, prefix);
+    carry = add_sat(carry, round_total);
   }
   if (lid == 0) counters[CLR_COUNTER_SCAN_TOTAL] = carry;
 }
@@ -65,12 +68,12 @@ void scan_apply(__global uint* data, uint count, __global const uint* block_offs
   uint sum = 0;
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     values[i] = begin + i < count ? data[begin + i] : 0u;
-    sum += values[i];
+    sum = add_sat(sum, values[i]);
   }
   uint group_total;
-  uint running = block_offsets[get_group_id(0)] + work_group_exclusive_scan(sum, scratch, &group_total);
+  uint running = add_sat(block_offsets[get_group_id(0)], work_group_exclusive_scan(sum, scratch, &group_total));
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     if (begin + i < count) data[begin + i] = running;
-    running += values[i];
+    running = add_sat(running, values[i]);
   }
 }

@@ -60,12 +60,8 @@ StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint3
 MemoryPlan plan_memory(const PlanInput& in) {
   MemoryPlan plan;
   plan.shade_all_vertices = in.indexed && in.vertex_count * kShadedVertexBytes <= in.memory_cap / 4;
-  // Pair offsets are 32-bit: a chunk's set-up triangles, each touching at most every tile, must not
-  // be able to overflow them.
-  const std::uint64_t setup_limit = std::max<std::uint64_t>(CLR_MAX_CLIP_TRIANGLES, 0xffffffffull / in.tile_count);
-  const auto setup_for = [&](std::uint64_t chunk) {
-    return std::min(setup_limit, std::max<std::uint64_t>(chunk, CLR_MAX_CLIP_TRIANGLES));
-  };
+  // Room for the triangles of one primitive at least, however it is clipped.
+  const auto setup_for = [](std::uint64_t chunk) { return std::max<std::uint64_t>(chunk, CLR_MAX_CLIP_TRIANGLES); };
   // A raster batch must hold a triangle that covers every tile; aim for two pairs per triangle.
   const auto min_pairs_for = [&](std::uint64_t setup) { return std::max<std::uint64_t>(in.tile_count, 2 * setup); };
   const auto fits = [&](std::uint64_t chunk) {
@@ -74,7 +70,7 @@ MemoryPlan plan_memory(const PlanInput& in) {
   };
 
   std::uint64_t lo = 1;
-  std::uint64_t hi = std::min<std::uint64_t>({std::max(in.primitive_count, 1u), CLR_MAX_CHUNK_PRIMITIVES, setup_limit});
+  std::uint64_t hi = std::min<std::uint64_t>(std::max(in.primitive_count, 1u), CLR_MAX_CHUNK_PRIMITIVES);
   if (!fits(lo)) {
     const std::size_t needed = total(buffer_bytes(plan.shade_all_vertices, in, 1, setup_for(1), min_pairs_for(setup_for(1))));
     throw InvalidArgument("memory cap of " + std::to_string(in.memory_cap >> 10) + " KiB cannot hold one triangle's " +

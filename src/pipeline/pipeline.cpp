@@ -6,6 +6,7 @@
 #include "stages/types.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <string>
 
 namespace clraster::pipeline {
@@ -16,6 +17,7 @@ using resources::Scratch;
 namespace {
 
 constexpr std::size_t kShadedVertexBytes = CLR_SHADED_VERTEX_FLOAT4S * 4 * sizeof(float);
+constexpr std::uint32_t kSaturated = 0xffffffffu;  // what a scan whose total overflows returns
 
 std::uint32_t primitives_of(int topology, std::uint64_t elements) {
   if (topology == CLR_TOPOLOGY_LIST) return static_cast<std::uint32_t>(elements / 3);
@@ -151,8 +153,6 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
       chunk_count = last_offset_within(triangle_offsets, 0, all, triangles, 0, plan.setup_capacity);
       triangles = offset_at(triangle_offsets, chunk_count, all, triangles);
     }
-    ++stats.chunks;
-    stats.setup_triangles += triangles;
     if (triangles > 0) {
       // Set-up, then the bin pairs each set-up triangle needs, and their offsets.
       const cl::Buffer setup = scratch_.get(Scratch::SetupTriangles, std::size_t{triangles} * sizeof(SetupTriangle));
@@ -160,7 +160,19 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
       setup_.run(queue_, {&draw, slots, shaded, chunk_begin, chunk_count, triangle_offsets, setup, pair_offsets});
       scan_.exclusive(queue_, pair_offsets, triangles,
                       scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(triangles)), counters_);
-      const std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+      std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+      if (pairs == kSaturated) {
+        // More bin pairs than 32-bit offsets count (the scan saturated): end the chunk before the
+        // primitive whose triangles reach that far, so that the next chunk starts with it.
+        const std::uint32_t exact = last_offset_within(pair_offsets, 0, triangles, pairs, 0, kSaturated - 1);
+        const std::uint32_t primitive =
+            read_uint(queue_, setup, (exact * sizeof(SetupTriangle) + offsetof(SetupTriangle, primitive_id)) / 4);
+        const std::uint32_t all = chunk_count;
+        chunk_count = primitive - chunk_begin;
+        const std::uint32_t kept = offset_at(triangle_offsets, chunk_count, all, triangles);
+        pairs = offset_at(pair_offsets, kept, triangles, pairs);
+        triangles = kept;
+      }
       stats.tile_triangle_pairs += pairs;
 
       // Bin and rasterize in batches of set-up triangles whose pairs fit the plan, in order.
@@ -197,6 +209,8 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
         batch_begin = batch_end;
       }
     }
+    ++stats.chunks;
+    stats.setup_triangles += triangles;
     chunk_begin += chunk_count;
   }
   stats.triangles_dropped = read_uint(queue_, counters_, CLR_COUNTER_DROPPED);
