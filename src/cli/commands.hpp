@@ -39,7 +39,7 @@ int render(const RenderOptions& options);
 int compare(const CompareOptions& options);
 int devices();
 
-// The camera a render uses: fitted to the scene's bounding sphere, then overridden by the options.
-io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds);
+// The camera a render uses: `base` (fitted to the model, or the demo's), overridden by the options.
+io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds, io::Camera base);
 
 }  // namespace clraster::cli

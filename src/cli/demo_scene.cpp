@@ -30,4 +30,14 @@ io::Mesh make_demo_scene() {
   return io::merge(parts);
 }
 
+io::Camera demo_camera(float fov_degrees) {
+  io::Camera camera;
+  camera.eye = {4.2f, 4.0f, 7.0f};
+  camera.target = {0.0f, 0.8f, 0.0f};
+  camera.fov_degrees = fov_degrees;
+  camera.near_plane = 1.0f;
+  camera.far_plane = 25.0f;
+  return camera;
+}
+
 }  // namespace clraster::cli

@@ -78,9 +78,8 @@ DrawState make_state(const RenderOptions& options, const io::Camera& camera) {
 
 }  // namespace
 
-io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds) {
-  const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
-  io::Camera camera = io::fit_camera(bounds, aspect, options.fov_degrees);
+io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds, io::Camera camera) {
+  camera.fov_degrees = options.fov_degrees;
   if (options.eye || options.target) {
     camera.eye = options.eye.value_or(camera.eye);
     camera.target = options.target.value_or(camera.target);
@@ -103,7 +102,11 @@ int render(const RenderOptions& options) {
   std::vector<std::string> warnings;
   const io::Mesh mesh = options.model.empty() ? make_demo_scene() : io::load_model(options.model, warnings);
   for (const std::string& warning : warnings) std::cerr << "clraster: warning: " << warning << '\n';
-  const io::Camera camera = choose_camera(options, io::bounding_sphere(mesh));
+  const io::BoundingSphere bounds = io::bounding_sphere(mesh);
+  const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
+  const io::Camera camera = choose_camera(
+      options, bounds,
+      options.model.empty() ? demo_camera(options.fov_degrees) : io::fit_camera(bounds, aspect, options.fov_degrees));
   const DrawState state = make_state(options, camera);
 
   nlohmann::json stats;
