@@ -97,6 +97,12 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   stats.peak_memory_bytes = scratch_.peak_bytes();
   if (primitives == 0) return stats;
 
+  const auto tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
+  const auto tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
+  const std::uint32_t tile_count = tiles_x * tiles_y;
+  const MemoryPlan plan = plan_memory({memory_cap_, source.vertex_count, source.index_size != 0, topology,
+                                       primitives, tile_count});
+
   const auto used_elements = static_cast<std::uint32_t>(topology == CLR_TOPOLOGY_LIST ? 3ull * primitives : element_count);
   if (source.index_size) {
     const std::uint32_t largest = largest_index(source, first, used_elements);
@@ -110,11 +116,6 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
   cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
 
-  const auto tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
-  const auto tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
-  const std::uint32_t tile_count = tiles_x * tiles_y;
-  const MemoryPlan plan = plan_memory({memory_cap_, source.vertex_count, source.index_size != 0, topology,
-                                       primitives, tile_count});
   scratch_.set_capacities(plan.buffer_bytes);
 
   const stages::DrawBuffers draw{source.positions,  source.has_normals ? source.normals : placeholder_,
