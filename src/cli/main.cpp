@@ -6,6 +6,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <limits>
+#include <optional>
+#include <string_view>
 #include <iostream>
 #include <map>
 
@@ -14,18 +18,27 @@ namespace {
 using namespace clraster;
 using namespace clraster::cli;
 
+// One side of --size: an integer (too large to represent counts as too large), else nothing.
+std::optional<long long> parse_side(std::string_view text) {
+  long long value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || end != text.data() + text.size()) return std::nullopt;
+  if (error == std::errc::result_out_of_range) return std::numeric_limits<long long>::max();
+  if (error != std::errc()) return std::nullopt;
+  return value;
+}
+
 // "1920x1080" -> width, height in 1..16384.
 void parse_size(const std::string& text, int& width, int& height) {
-  int w = 0, h = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || (x != 'x' && x != 'X')) {
-    throw InvalidArgument("--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got '" + text + "'");
-  }
-  if (w < 1 || h < 1 || w > 16384 || h > 16384) {
+  const std::size_t x = text.find_first_of("xX");
+  const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_side(std::string_view(text).substr(0, x));
+  const std::optional<long long> h = x == std::string::npos ? std::nullopt : parse_side(std::string_view(text).substr(x + 1));
+  if (!w || !h) throw InvalidArgument("--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got '" + text + "'");
+  if (*w < 1 || *h < 1 || *w > 16384 || *h > 16384) {
     throw InvalidArgument("--size " + text + " is out of range: each side must be 1..16384");
   }
-  width = w;
-  height = h;
+  width = static_cast<int>(*w);
+  height = static_cast<int>(*h);
 }
 
 // CLI11 takes "-3,1,2" after "--eye" for an option name; joining such a value to its option

@@ -161,6 +161,9 @@ int render(const RenderOptions& options) {
 
   if (options.stats) {
     stats["first_frame_ms"] = times.first_ms;
+    // Without timed frames (--frames 0) there is no median or minimum to report: null.
+    stats["median_ms"] = nullptr;
+    stats["min_ms"] = nullptr;
     if (!times.timed_ms.empty()) {
       std::vector<double> sorted = times.timed_ms;
       std::sort(sorted.begin(), sorted.end());
