@@ -1,1 +1,506 @@
-// Being written.
+// The command line, run as a separate process: its interface (render, compare, devices, --help,
+// --version, both option spellings, --stats, the OpenGL backend), and its answer to bad input:
+// one clear line on stderr and a non-zero exit, never a crash or a hang, and an existing output
+// file left as it was.
+#include "io/camera.hpp"
+#include "io/image_io.hpp"
+#include "io/model_loader.hpp"
+#include "io/procedural.hpp"
+#include "support/cli_support.hpp"
+#include "support/test_support.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace clraster::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ---- Helpers -------------------------------------------------------------------------------------
+
+// Table rows print as their name in gtest's messages.
+template <typename Row>
+  requires requires(const Row& row) { row.name; }
+void PrintTo(const Row& row, std::ostream* stream) {
+  *stream << row.name;
+}
+
+// The mesh as OBJ text: every coordinate exactly (9 significant digits round-trip a float), faces
+// 1-based, no normals (the loader computes them, the same way for the CLI and for the test).
+std::string to_obj(const io::Mesh& mesh) {
+  std::string text;
+  char line[96];
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                  mesh.positions[3 * v + 2]);
+    text += line;
+  }
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    std::snprintf(line, sizeof line, "f %u %u %u\n", mesh.indices[3 * t] + 1, mesh.indices[3 * t + 1] + 1,
+                  mesh.indices[3 * t + 2] + 1);
+    text += line;
+  }
+  return text;
+}
+
+// The three vertices of a triangle, for OBJ files.
+const std::string kObjTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+// A small landscape with no symmetry, so that any mistake in the camera shows.
+const io::Mesh& landscape() {
+  static const io::Mesh mesh = io::make_terrain(16, 12, 4, 3, 0.6f, 7);
+  return mesh;
+}
+
+fs::path landscape_file() {
+  static const fs::path path = write_scratch_file("landscape.obj", to_obj(landscape()));
+  return path;
+}
+
+io::Mesh load(const fs::path& path) {
+  std::vector<std::string> warnings;
+  return io::load_model(path.string(), warnings);
+}
+
+// `clraster render --output scratch_directory()/output_name args...`, which must succeed.
+struct Rendered {
+  fs::path file;
+  Image picture;    // as read back from the file
+  std::string out;  // stdout
+};
+Rendered render(const std::string& output_name, std::vector<std::string> args) {
+  const fs::path output = scratch_directory() / output_name;
+  args.insert(args.begin(), {"render", "--output", output.string()});
+  const CliResult result = run_cli(args);
+  EXPECT_TRUE(succeeded(result));
+  return {output, result.exit_code == 0 ? io::load_png(output.string()) : Image{}, result.out};
+}
+
+::testing::AssertionResult mentions(std::string_view text, std::string_view part) {
+  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << part << "' is not in: " << text;
+}
+
+// The keys of the --stats line: those of every backend, and clraster's draw counters.
+const std::vector<std::string> kStatsKeys{"triangles",      "width",     "height", "frames",
+                                          "first_frame_ms", "median_ms", "min_ms", "device"};
+const std::vector<std::string> kDrawCounterKeys{"triangles_dropped", "chunks", "tile_triangle_pairs",
+                                                "peak_memory_bytes"};
+
+::testing::AssertionResult has_keys(const json& object, const std::vector<std::string>& keys) {
+  for (const std::string& key : keys) {
+    if (!object.contains(key)) return ::testing::AssertionFailure() << "no \"" << key << "\" in " << object;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// The one line of JSON that --stats prints after `frames` (at least 1) timed frames, checked for
+// the keys every backend reports.
+json stats_line(const std::string& out, int width, int height, int frames) {
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  const json stats = json::parse(out);
+  if (::testing::AssertionResult complete = has_keys(stats, kStatsKeys); !complete) {
+    ADD_FAILURE() << complete.message();
+    return stats;
+  }
+  EXPECT_GT(stats["triangles"].get<std::uint64_t>(), 0u);
+  EXPECT_EQ(stats["width"], width);
+  EXPECT_EQ(stats["height"], height);
+  EXPECT_EQ(stats["frames"], frames);
+  EXPECT_GT(stats["first_frame_ms"].get<double>(), 0);
+  EXPECT_GT(stats["min_ms"].get<double>(), 0);
+  EXPECT_LE(stats["min_ms"].get<double>(), stats["median_ms"].get<double>());
+  EXPECT_FALSE(stats["device"].get<std::string>().empty());
+  return stats;
+}
+
+// ---- Interface -------------------------------------------------------------------------------------
+
+TEST(CliInterface, VersionPrintsTheLibraryVersion) {
+  const CliResult result = run_cli({"--version"});
+  EXPECT_TRUE(succeeded(result));
+  EXPECT_EQ(result.out, std::string("clraster ") + version() + "\n");
+}
+
+TEST(CliInterface, HelpNamesTheCommands) {
+  const CliResult result = run_cli({"--help"});
+  EXPECT_TRUE(succeeded(result));
+  for (const char* command : {"render", "compare", "devices"}) EXPECT_TRUE(mentions(result.out, command));
+}
+
+TEST(CliInterface, RenderHelpNamesEveryOption) {
+  const CliResult result = run_cli({"render", "--help"});
+  EXPECT_TRUE(succeeded(result));
+  for (const char* option : {"--output", "--size", "--eye", "--target", "--up", "--fov", "--near", "--far", "--shading",
+                             "--cull", "--frames", "--stats", "--device", "--backend", "--memory-cap", "--tile-size"}) {
+    EXPECT_TRUE(mentions(result.out, option));
+  }
+}
+
+TEST(CliInterface, DevicesListsEveryOpenClDevice) {
+  const CliResult result = run_cli({"devices"});
+  EXPECT_TRUE(succeeded(result));
+  for (const DeviceInfo& device : list_devices()) {
+    EXPECT_TRUE(mentions(result.out, std::to_string(device.index) + ": " + device.name));
+  }
+}
+
+TEST(CliRender, WithoutAModelDrawsTheDemoSceneAtTheRequestedSize) {
+  const Image picture = render("demo.png", {"--size", "48x30"}).picture;
+  EXPECT_EQ(picture.width, 48);
+  EXPECT_EQ(picture.height, 30);
+  const std::uint64_t covered = covered_pixel_count(picture);
+  EXPECT_GT(covered, 0u);
+  EXPECT_LT(covered, 48u * 30u) << "no background left: the scene is not framed";
+}
+
+TEST(CliRender, CameraOptionsGiveTheViewAndProjectionOfTheLibrary) {
+  io::Camera camera;
+  camera.eye = {-3, 1.5f, 2};
+  camera.target = {0.25f, 0, -0.5f};
+  camera.up = {0, 1, 0.125f};
+  camera.fov_degrees = 50;
+  camera.near_plane = 0.5f;
+  camera.far_plane = 12;
+  DrawState state;
+  state.model_view = io::to_mat4(io::view_matrix(camera));
+  state.projection = io::to_mat4(io::projection_matrix(camera, 80.0f / 60.0f));
+  const Image expected = render_clraster(shared_context(), load(landscape_file()), state, 80, 60).image;
+  ASSERT_GT(covered_pixel_count(expected), 400u);
+
+  const std::string model = landscape_file().string();
+  const Image separate = render("separate.png", {model, "--size", "80x60", "--eye", "-3,1.5,2", "--target",
+                                                 "0.25,0,-0.5", "--up", "0,1,0.125", "--fov", "50", "--near", "0.5",
+                                                 "--far", "12"})
+                             .picture;
+  const Image joined = render("joined.png", {model, "--size=80x60", "--eye=-3,1.5,2", "--target=0.25,0,-0.5",
+                                             "--up=0,1,0.125", "--fov=50", "--near=0.5", "--far=12"})
+                           .picture;
+  EXPECT_TRUE(images_match(separate, expected, kExact)) << "--option value";
+  EXPECT_TRUE(images_match(joined, expected, kExact)) << "--option=value";
+}
+
+TEST(CliRender, StatsAreOneJsonLineWithTheDrawCounters) {
+  const std::string out = render("stats.png", {landscape_file().string(), "--size", "40x30", "--stats", "--frames",
+                                               "3", "--device", "0", "--memory-cap", "4"})
+                              .out;
+  const json stats = stats_line(out, 40, 30, 3);
+  ASSERT_TRUE(has_keys(stats, kDrawCounterKeys));
+  EXPECT_EQ(stats["triangles"], landscape().triangle_count());
+  EXPECT_EQ(stats["device"], list_devices().at(0).name);
+  EXPECT_EQ(stats["triangles_dropped"], 0);
+  EXPECT_GE(stats["chunks"].get<std::uint64_t>(), 1u);
+  EXPECT_GT(stats["tile_triangle_pairs"].get<std::uint64_t>(), 0u);
+  EXPECT_GT(stats["peak_memory_bytes"].get<std::uint64_t>(), 0u);
+  EXPECT_LE(stats["peak_memory_bytes"].get<std::uint64_t>(), std::uint64_t{4} << 20) << "--memory-cap 4 (MiB)";
+}
+
+TEST(CliRender, StatsWithoutTimedFramesStillHaveEveryKey) {
+  const json stats = json::parse(render("untimed.png", {landscape_file().string(), "--size", "40x30", "--stats"}).out);
+  EXPECT_TRUE(has_keys(stats, kStatsKeys));
+  EXPECT_TRUE(has_keys(stats, kDrawCounterKeys));
+}
+
+TEST(CliRender, GlBackendAgreesWithClraster) {
+  const Rendered ours = render("clraster.png", {"--size", "160x120", "--stats", "--frames", "1"});
+  const Rendered gl = render("gl.png", {"--size", "160x120", "--stats", "--frames", "1", "--backend", "gl"});
+  EXPECT_EQ(stats_line(gl.out, 160, 120, 1).at("triangles"), stats_line(ours.out, 160, 120, 1).at("triangles"));
+  ASSERT_GT(covered_pixel_count(gl.picture), 1000u);
+
+  const CliResult compared = run_cli({"compare", ours.file.string(), gl.file.string()});
+  ASSERT_TRUE(succeeded(compared));
+  const json comparison = json::parse(compared.out);
+  EXPECT_LE(comparison.at("coverage_mismatch").get<double>(), kNormalShading.max_coverage_mismatch) << comparison;
+  EXPECT_LE(comparison.at("colour_mismatch").get<double>(), kNormalShading.max_colour_mismatch) << comparison;
+}
+
+TEST(CliRender, NonFiniteVerticesAreDroppedAndCountedAndTheRestRenders) {
+  const fs::path finite = write_scratch_file("finite.obj", kObjTriangle + "f 1 2 3\n");
+  const fs::path non_finite = write_scratch_file(
+      "non-finite.obj", kObjTriangle + "v nan 0 0\nv 1 inf 0\nv 0 0 -inf\nf 4 2 3\nf 1 2 3\nf 1 5 3\nf 1 2 6\n");
+  const Rendered expected = render("finite.png", {finite.string(), "--size", "64x48"});
+  const Rendered result = render("non-finite.png", {non_finite.string(), "--size", "64x48", "--stats"});
+
+  const json stats = json::parse(result.out);
+  EXPECT_EQ(stats.value("triangles", 0), 4);
+  EXPECT_EQ(stats.value("triangles_dropped", 0), 3);
+  ASSERT_GT(covered_pixel_count(expected.picture), 100u);
+  EXPECT_TRUE(images_match(result.picture, expected.picture, kExact));
+}
+
+TEST(CliCompare, ReportsTheDifferencesAsJson) {
+  // 4x2 pixels, black but for: pixel 0 the same red in both; pixel 1 grey, one channel 10 apart;
+  // pixel 2 blue in A only; pixel 3 green in B only.
+  Image a{4, 2, std::vector<std::uint8_t>(32, 0)};
+  for (int p = 0; p < 8; ++p) a.rgba[4 * p + 3] = 255;
+  Image b = a;
+  const auto set = [](Image& image, int pixel, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    image.rgba[4 * pixel] = r, image.rgba[4 * pixel + 1] = g, image.rgba[4 * pixel + 2] = b;
+  };
+  set(a, 0, 200, 0, 0);
+  set(b, 0, 200, 0, 0);
+  set(a, 1, 100, 100, 100);
+  set(b, 1, 110, 100, 100);
+  set(a, 2, 0, 0, 50);
+  set(b, 3, 0, 90, 0);
+  const fs::path path_a = scratch_directory() / "a.png", path_b = scratch_directory() / "b.png";
+  io::save_png(path_a.string(), a);
+  io::save_png(path_b.string(), b);
+
+  const CliResult result = run_cli({"compare", path_a.string(), path_b.string()});
+  ASSERT_TRUE(succeeded(result));
+  EXPECT_EQ(std::count(result.out.begin(), result.out.end(), '\n'), 1) << result.out;
+  const json c = json::parse(result.out);
+  EXPECT_EQ(c.at("width"), 4);
+  EXPECT_EQ(c.at("height"), 2);
+  EXPECT_EQ(c.at("pixels"), 8);
+  EXPECT_EQ(c.at("covered_a"), 3);
+  EXPECT_EQ(c.at("covered_b"), 3);
+  EXPECT_EQ(c.at("covered_either"), 4);
+  EXPECT_EQ(c.at("covered_both"), 2);
+  EXPECT_EQ(c.at("only_a"), 1);
+  EXPECT_EQ(c.at("only_b"), 1);
+  EXPECT_DOUBLE_EQ(c.at("coverage_mismatch").get<double>(), 0.5);
+  EXPECT_EQ(c.at("colour_mismatch_pixels"), 1);
+  EXPECT_DOUBLE_EQ(c.at("colour_mismatch").get<double>(), 0.5);
+  EXPECT_EQ(c.at("differing_pixels"), 3);
+  EXPECT_EQ(c.at("max_channel_diff"), 90);
+
+  const CliResult lenient = run_cli({"compare", path_a.string(), path_b.string(), "--threshold", "10"});
+  ASSERT_TRUE(succeeded(lenient));
+  EXPECT_EQ(json::parse(lenient.out).at("colour_mismatch_pixels"), 0);
+}
+
+// ---- Bad input -------------------------------------------------------------------------------------
+
+enum class RejectedBy { Parser, Clraster };
+constexpr RejectedBy kParser = RejectedBy::Parser, kClraster = RejectedBy::Clraster;
+
+// Runs `clraster render --output <an existing file> args...` and checks that it is rejected (by the
+// option parser, or with a "clraster: error:" line) with a message mentioning `subject`, and that
+// the existing file keeps its bytes.
+void expect_render_rejected(const std::vector<std::string>& args, std::string_view subject, RejectedBy by,
+                            const std::map<std::string, std::string>& env = {}) {
+  const std::string sentinel = "an earlier picture, which a failed render must leave alone\n";
+  const fs::path output = write_scratch_file("existing.png", sentinel);
+  std::vector<std::string> command{"render", "--output", output.string()};
+  command.insert(command.end(), args.begin(), args.end());
+  const CliResult result = run_cli(command, env);
+  EXPECT_TRUE(by == kParser ? failed_to_parse(result, subject) : failed_with_error(result, subject));
+  EXPECT_TRUE(read_file(output) == sentinel) << "the failed render changed " << output;
+}
+
+TEST(CliBadInput, UnknownCommandIsNamed) {
+  EXPECT_TRUE(failed_with_error(run_cli({"rendr", "--output", "x.png"}), "rendr"));
+}
+
+TEST(CliBadInput, UnknownOptionIsNamed) { expect_render_rejected({"--colour", "red"}, "--colour", kParser); }
+
+TEST(CliBadInput, NoCommand) { EXPECT_TRUE(failed_to_parse(run_cli({}), "subcommand")); }
+
+TEST(CliBadInput, RenderWithoutOutput) { EXPECT_TRUE(failed_to_parse(run_cli({"render"}), "--output")); }
+
+TEST(CliBadInput, DeviceFromTheEnvironmentThatIsNotAnIndex) {
+  expect_render_rejected({"--size", "8x8"}, "CLRASTER_DEVICE", kClraster, {{"CLRASTER_DEVICE", "first"}});
+}
+
+struct BadOption {
+  const char* name;
+  std::vector<std::string> args;
+  const char* subject;
+  RejectedBy by;
+};
+
+class RejectedRenderOption : public ::testing::TestWithParam<BadOption> {};
+
+TEST_P(RejectedRenderOption, WithAClearMessage) {
+  expect_render_rejected(GetParam().args, GetParam().subject, GetParam().by);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Options, RejectedRenderOption,
+    ::testing::Values(
+        BadOption{"SizeOfZeroWidth", {"--size", "0x10"}, "0x10", kClraster},
+        BadOption{"SizeTooWide", {"--size", "16385x10"}, "16385x10", kClraster},
+        BadOption{"SizeOfNegativeHeight", {"--size", "10x-1"}, "10x-1", kClraster},
+        BadOption{"SizeThatIsNotNumbers", {"--size", "abc"}, "abc", kClraster},
+        BadOption{"SizeWithAWidthOverflowingInt", {"--size", "4294967306x10"}, "4294967306x10", kClraster},
+        BadOption{"FovZero", {"--fov", "0"}, "fov", kClraster},
+        BadOption{"Fov180", {"--fov", "180"}, "fov", kClraster},
+        BadOption{"FovNegative", {"--fov", "-5"}, "-5", kClraster},
+        BadOption{"FovNegativeJoined", {"--fov=-5"}, "-5", kClraster},
+        BadOption{"FovNotANumber", {"--fov", "wide"}, "wide", kParser},
+        BadOption{"NearZero", {"--near", "0"}, "near", kClraster},
+        BadOption{"NearNegative", {"--near", "-2.5"}, "-2.5", kClraster},
+        BadOption{"FarEqualToNear", {"--near", "5", "--far", "5"}, "far", kClraster},
+        BadOption{"FarBelowNear", {"--near", "5", "--far", "0.25"}, "0.25", kClraster},
+        BadOption{"EyeOfTwoNumbers", {"--eye", "1,2"}, "1,2", kClraster},
+        BadOption{"EyeOfLetters", {"--eye", "a,b,c"}, "a,b,c", kClraster},
+        BadOption{"EyeOfFourNumbers", {"--eye", "1,2,3,4"}, "1,2,3,4", kClraster},
+        BadOption{"TargetWithAnEmptyNumber", {"--target", "1,,3"}, "1,,3", kClraster},
+        BadOption{"UpOfTwoNumbers", {"--up", "0,1"}, "--up", kClraster},
+        BadOption{"EyeAtTheTarget", {"--eye", "-1,-2,-3", "--target=-1,-2,-3"}, "eye", kClraster},
+        BadOption{"UpAlongTheViewDirection", {"--eye", "0,0,5", "--target", "0,0,0", "--up", "0,0,1"}, "up", kClraster},
+        BadOption{"ShadingUnknown", {"--shading", "phong"}, "phong", kParser},
+        BadOption{"CullUnknown", {"--cull", "sideways"}, "sideways", kParser},
+        BadOption{"BackendUnknown", {"--backend", "vulkan"}, "vulkan", kParser},
+        BadOption{"TileSizeUnsupported", {"--tile-size", "12"}, "12", kParser},
+        BadOption{"MemoryCapBelowTheMinimum", {"--memory-cap", "3"}, "--memory-cap", kParser},
+        BadOption{"FramesNegative", {"--frames", "-1"}, "--frames", kParser},
+        BadOption{"DeviceNegative", {"--device", "-1"}, "--device", kParser},
+        BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "1000", kClraster}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+struct BadModelFile {
+  std::string name;
+  fs::path path;
+};
+
+class RejectedModelFile : public ::testing::TestWithParam<BadModelFile> {};
+
+TEST_P(RejectedModelFile, IsNamedInTheMessage) {
+  expect_render_rejected({GetParam().path.string(), "--size", "16x16"}, GetParam().path.string(), kClraster);
+}
+
+const fs::path kAssimpGltf2 = "/usr/share/assimp/models/glTF2";  // the assimp-testmodels package
+
+// Unreadable files, and assimp's test files that must fail to load: glTF 2.0 with members of the
+// wrong JSON type, or not following the schema.
+std::vector<BadModelFile> bad_model_files() {
+  std::vector<BadModelFile> files{{"Missing", "/nonexistent/model.obj"},
+                                  {"Directory", "/usr/share/assimp/models"},
+                                  {"UnderARegularFile", "/etc/hostname/model.obj"},
+                                  {"NotAModel", "/etc/hostname"},
+                                  {"Empty", "/dev/null"}};
+  for (const char* directory : {"wrongTypes", "SchemaFailures"}) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(kAssimpGltf2 / directory)) {
+      if (entry.path().extension() == ".gltf") {
+        files.push_back({std::string("glTF2_") + directory + "_" + entry.path().stem().string(), entry.path()});
+      }
+    }
+  }
+  return files;
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, RejectedModelFile, ::testing::ValuesIn(bad_model_files()),
+                         [](const auto& info) { return info.param.name; });
+
+struct CraftedModel {
+  const char* name;
+  const char* file_name;
+  std::string contents;
+};
+
+// Models that must not load: no triangles, or faces that reference vertices that do not exist,
+// also through indices beyond 32 bits that a parser could wrap around to existing ones.
+class RejectedCraftedModel : public ::testing::TestWithParam<CraftedModel> {};
+
+TEST_P(RejectedCraftedModel, IsNamedInTheMessage) {
+  const fs::path path = write_scratch_file(GetParam().file_name, GetParam().contents);
+  expect_render_rejected({path.string(), "--size", "16x16"}, path.string(), kClraster);
+}
+
+const std::string kPlyVertices =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+const std::string kPlyTriangle = kPlyVertices + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+                                 "0 0 0\n1 0 0\n0 1 0\n";
+const std::string kOffTriangle = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, RejectedCraftedModel,
+    ::testing::Values(
+        CraftedModel{"EmptyObj", "empty.obj", ""},
+        CraftedModel{"ObjOfPointsOnly", "points.obj", kObjTriangle + "p 1\np 2\np 3\n"},
+        CraftedModel{"ObjOfLinesOnly", "lines.obj", kObjTriangle + "l 1 2\nl 2 3\n"},
+        CraftedModel{"PlyOfPointsOnly", "points.ply", kPlyVertices + "end_header\n0 0 0\n1 0 0\n0 1 0\n"},
+        CraftedModel{"ObjFaceIndexPastTheEnd", "past-end.obj", kObjTriangle + "f 1 2 3\nf 1 2 7\n"},
+        CraftedModel{"ObjFaceIndexZero", "zero.obj", kObjTriangle + "f 0 1 2\n"},
+        CraftedModel{"ObjRelativeIndexBeforeTheStart", "before-start.obj", kObjTriangle + "f -1 -2 -7\n"},
+        CraftedModel{"ObjFaceIndexBeyond32Bits", "beyond-32-bits.obj", kObjTriangle + "f 1 2 4294967298\n"},
+        CraftedModel{"PlyFaceIndexPastTheEnd", "past-end.ply", kPlyTriangle + "3 0 1 9\n"},
+        CraftedModel{"PlyNegativeFaceIndex", "negative.ply", kPlyTriangle + "3 0 -1 2\n"},
+        CraftedModel{"PlyFaceIndexWrappingAround32Bits", "wrapping.ply", kPlyTriangle + "3 0 1 4294967297\n"},
+        CraftedModel{"OffFaceIndexPastTheEnd", "past-end.off", kOffTriangle + "3 0 1 5\n"},
+        CraftedModel{"OffNegativeFaceIndex", "negative.off", kOffTriangle + "3 0 1 -1\n"},
+        CraftedModel{"OffFaceIndexWrappingAround32Bits", "wrapping.off", kOffTriangle + "3 0 1 4294967297\n"},
+        // Three vertices and the indices 0, 1, 7 (16-bit), in an embedded buffer.
+        CraftedModel{"GltfIndexPastTheEnd", "past-end.gltf",
+                     R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],)"
+                     R"("meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}],)"
+                     R"("buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,)"
+                     R"(AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAcAAAA="}],)"
+                     R"("bufferViews": [{"buffer": 0, "byteLength": 36},)"
+                     R"({"buffer": 0, "byteOffset": 36, "byteLength": 6}],)"
+                     R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",)"
+                     R"("min": [0, 0, 0], "max": [1, 1, 0]},)"
+                     R"({"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+struct BadOutput {
+  std::string name;
+  fs::path path;
+};
+
+class UnwritableOutput : public ::testing::TestWithParam<BadOutput> {};
+
+TEST_P(UnwritableOutput, IsNamedInTheMessage) {
+  const std::string path = GetParam().path.string();
+  EXPECT_TRUE(failed_with_error(
+      run_cli({"render", landscape_file().string(), "--size", "16x16", "--output", path}), path));
+}
+
+INSTANTIATE_TEST_SUITE_P(Paths, UnwritableOutput,
+                         ::testing::Values(BadOutput{"UnderARegularFile", "/etc/hostname/picture.png"},
+                                           BadOutput{"InAMissingDirectory", "/nonexistent/picture.png"},
+                                           BadOutput{"Directory", fs::temp_directory_path()},
+                                           BadOutput{"FullDevice", "/dev/full"},
+                                           BadOutput{"ReadOnlyProcFile", "/proc/version"}),
+                         [](const auto& info) { return info.param.name; });
+
+// Two pictures for compare: 8x4 and 4x4.
+struct ComparePictures {
+  fs::path wide = scratch_directory() / "wide.png";
+  fs::path square = scratch_directory() / "square.png";
+  ComparePictures() {
+    io::save_png(wide.string(), Image{8, 4, std::vector<std::uint8_t>(8 * 4 * 4, 255)});
+    io::save_png(square.string(), Image{4, 4, std::vector<std::uint8_t>(4 * 4 * 4, 255)});
+  }
+};
+
+TEST(CliBadInput, CompareOfPicturesThatCannotBeRead) {
+  const ComparePictures pictures;
+  for (const std::string unreadable : {"/nonexistent/picture.png", "/etc/hostname", "/usr/share/assimp/models"}) {
+    EXPECT_TRUE(failed_with_error(run_cli({"compare", pictures.wide.string(), unreadable}), unreadable));
+    EXPECT_TRUE(failed_with_error(run_cli({"compare", unreadable, pictures.wide.string()}), unreadable));
+  }
+}
+
+TEST(CliBadInput, CompareOfPicturesOfDifferentSizes) {
+  const ComparePictures pictures;
+  EXPECT_TRUE(failed_with_error(run_cli({"compare", pictures.wide.string(), pictures.square.string()}), "4x4"));
+}
+
+TEST(CliBadInput, CompareWithAnUnwritableDiffPicture) {
+  const ComparePictures pictures;
+  EXPECT_TRUE(failed_with_error(run_cli({"compare", pictures.wide.string(), pictures.wide.string(), "--diff",
+                                         "/etc/hostname/diff.png"}),
+                                "/etc/hostname/diff.png"));
+}
+
+TEST(CliBadInput, CompareWithAThresholdOutOfRange) {
+  const ComparePictures pictures;
+  EXPECT_TRUE(failed_to_parse(
+      run_cli({"compare", pictures.wide.string(), pictures.wide.string(), "--threshold", "256"}), "--threshold"));
+}
+
+}  // namespace
+}  // namespace clraster::test
