@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
   render->add_flag("--stats", render_options.stats, "Print one JSON line of statistics and timings");
   render->add_option("--device", render_options.device, "OpenCL device index (see `clraster devices`; "
                                                         "default: $CLRASTER_DEVICE, else 0)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1 << 20));
   render->add_option("--backend", render_options.backend, "clraster, or gl: the same scene with the system's OpenGL")
       ->transform(CLI::CheckedTransformer(std::map<std::string, Backend>{{"clraster", Backend::Clraster}, {"gl", Backend::Gl}},
                                           CLI::ignore_case))
@@ -136,8 +136,15 @@ int main(int argc, char** argv) {
   }
   try {
     app.parse(join_negative_values(argc, argv));
+  } catch (const CLI::CallForHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::CallForAllHelp& help) {
+    return app.exit(help);
+  } catch (const CLI::CallForVersion& version) {
+    return app.exit(version);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    std::cerr << "clraster: error: " << error.what() << " (see clraster --help)\n";
+    return 2;
   }
 
   try {

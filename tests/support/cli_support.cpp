@@ -161,18 +161,6 @@ CliResult run_cli(const std::vector<std::string>& args, const std::map<std::stri
   return ::testing::AssertionSuccess();
 }
 
-::testing::AssertionResult failed_to_parse(const CliResult& result, std::string_view subject) {
-  if (::testing::AssertionResult exited = exited_with_failure(result); !exited) return exited;
-  const std::vector<std::string_view> lines = lines_of(result.err);
-  const bool only_hint_follows =
-      lines.size() == 1 || (lines.size() == 2 && lines[1].find("--help") != std::string_view::npos);
-  if (lines.empty() || lines[0].find(subject) == std::string_view::npos || !only_hint_follows) {
-    return ::testing::AssertionFailure() << "expected the option parser's message mentioning " << quoted(subject)
-                                         << ", then at most a hint to run --help; got " << result;
-  }
-  return ::testing::AssertionSuccess();
-}
-
 const fs::path& scratch_directory() {
   // Created on first use; removed by the destructor of this static at exit.
   struct Directory {

@@ -38,10 +38,6 @@ CliResult run_cli(const std::vector<std::string>& args, const std::map<std::stri
 // why on exactly one stderr line that starts "clraster: error: " and mentions `subject`.
 ::testing::AssertionResult failed_with_error(const CliResult& result, std::string_view subject);
 
-// Rejected by the option parser (CLI11): exited by itself with a code in 1..127, its message (the
-// first stderr line) mentions `subject`, and at most its one-line hint to run --help follows.
-::testing::AssertionResult failed_to_parse(const CliResult& result, std::string_view subject);
-
 // A directory of this test process's own, removed when the process ends.
 const std::filesystem::path& scratch_directory();
 
