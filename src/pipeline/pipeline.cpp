@@ -97,11 +97,14 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   stats.peak_memory_bytes = scratch_.peak_bytes();
   if (primitives == 0) return stats;
 
-  const auto tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
-  const auto tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
-  const std::uint32_t tile_count = tiles_x * tiles_y;
-  const MemoryPlan plan = plan_memory({memory_cap_, source.vertex_count, source.index_size != 0, topology,
-                                       primitives, tile_count});
+  Frame frame;
+  frame.target = &target;
+  frame.topology = topology;
+  frame.vertex_count = source.vertex_count;
+  frame.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
+  frame.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
+  frame.plan = plan_memory({memory_cap_, source.vertex_count, source.index_size != 0, topology, primitives,
+                            frame.tiles_x * frame.tiles_y});
 
   const auto used_elements = static_cast<std::uint32_t>(topology == CLR_TOPOLOGY_LIST ? 3ull * primitives : element_count);
   if (source.index_size) {
@@ -111,113 +114,121 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
                             std::to_string(source.vertex_count) + " vertices");
     }
   }
+
+  // Validated: from here on the draw renders.
   uniforms.index_size = source.index_size;
   uniforms.first = first;
   queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
   cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
-
-  scratch_.set_capacities(plan.buffer_bytes);
-
-  const stages::DrawBuffers draw{source.positions,  source.has_normals ? source.normals : placeholder_,
-                                 source.has_normals, source.index_size ? source.indices : placeholder_,
-                                 uniforms_,          counters_};
-  if (plan.shade_all_vertices) {
-    const auto vertices = static_cast<std::uint32_t>(source.vertex_count);
-    vertex_.run(queue_, {&draw, true, 0, 0, vertices,
+  scratch_.set_capacities(frame.plan.buffer_bytes);
+  const stages::DrawBuffers buffers{source.positions,  source.has_normals ? source.normals : placeholder_,
+                                    source.has_normals, source.index_size ? source.indices : placeholder_,
+                                    uniforms_,          counters_};
+  frame.buffers = &buffers;
+  if (frame.plan.shade_all_vertices) {
+    vertex_.run(queue_, {&buffers, true, 0, 0, static_cast<std::uint32_t>(source.vertex_count),
                          scratch_.get(Scratch::ShadedVertices, source.vertex_count * kShadedVertexBytes)});
   }
-
-  for (std::uint32_t chunk_begin = 0; chunk_begin < primitives;) {
-    std::uint32_t chunk_count = std::min(plan.chunk_primitives, primitives - chunk_begin);
-
-    // Vertex stage: once per draw (above), or this chunk's stream positions.
-    SlotMap slots{1, 0, 0};
-    cl::Buffer shaded;
-    if (plan.shade_all_vertices) {
-      shaded = scratch_.get(Scratch::ShadedVertices, source.vertex_count * kShadedVertexBytes);
-    } else {
-      const StreamRange range = stream_range(topology, chunk_begin, chunk_count);
-      const std::uint32_t slot_count = range.count + (topology == CLR_TOPOLOGY_FAN ? 1 : 0);
-      shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{slot_count} * kShadedVertexBytes);
-      vertex_.run(queue_, {&draw, false, range.begin, range.count, slot_count, shaded});
-      slots = {0, range.begin, range.count};
-    }
-
-    // Primitive stage: triangles left per primitive, and their offsets.
-    const cl::Buffer triangle_offsets = scratch_.get(Scratch::TriangleCounts, std::size_t{chunk_count} * sizeof(cl_uint));
-    primitive_.run(queue_, {&draw, slots, shaded, chunk_begin, chunk_count, triangle_offsets});
-    scan_.exclusive(queue_, triangle_offsets, chunk_count,
-                    scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(chunk_count)), counters_);
-    std::uint32_t triangles = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
-    if (triangles > plan.setup_capacity) {  // clipping made more triangles than planned: shorten the chunk
-      const std::uint32_t all = chunk_count;
-      chunk_count = last_offset_within(triangle_offsets, 0, all, triangles, 0, plan.setup_capacity);
-      triangles = offset_at(triangle_offsets, chunk_count, all, triangles);
-    }
-    if (triangles > 0) {
-      // Set-up, then the bin pairs each set-up triangle needs, and their offsets.
-      const cl::Buffer setup = scratch_.get(Scratch::SetupTriangles, std::size_t{triangles} * sizeof(SetupTriangle));
-      const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, std::size_t{triangles} * sizeof(cl_uint));
-      setup_.run(queue_, {&draw, slots, shaded, chunk_begin, chunk_count, triangle_offsets, setup, pair_offsets});
-      scan_.exclusive(queue_, pair_offsets, triangles,
-                      scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(triangles)), counters_);
-      std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
-      if (pairs == kSaturated) {
-        // More bin pairs than 32-bit offsets count (the scan saturated): end the chunk before the
-        // primitive whose triangles reach that far, so that the next chunk starts with it.
-        const std::uint32_t exact = last_offset_within(pair_offsets, 0, triangles, pairs, 0, kSaturated - 1);
-        const std::uint32_t primitive =
-            read_uint(queue_, setup, (exact * sizeof(SetupTriangle) + offsetof(SetupTriangle, primitive_id)) / 4);
-        const std::uint32_t all = chunk_count;
-        chunk_count = primitive - chunk_begin;
-        const std::uint32_t kept = offset_at(triangle_offsets, chunk_count, all, triangles);
-        pairs = offset_at(pair_offsets, kept, triangles, pairs);
-        triangles = kept;
-      }
-      stats.tile_triangle_pairs += pairs;
-
-      // Bin and rasterize in batches of set-up triangles whose pairs fit the plan, in order.
-      for (std::uint32_t batch_begin = 0; batch_begin < triangles;) {
-        const std::uint32_t pair_base = offset_at(pair_offsets, batch_begin, triangles, pairs);
-        const std::uint32_t batch_end =
-            pairs - pair_base <= plan.pair_capacity
-                ? triangles
-                : last_offset_within(pair_offsets, batch_begin, triangles, pairs, pair_base, plan.pair_capacity);
-        const std::uint32_t batch_pairs = offset_at(pair_offsets, batch_end, triangles, pairs) - pair_base;
-        const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
-
-        stages::BinParams bin;
-        bin.triangles = setup;
-        bin.pair_offsets = pair_offsets;
-        bin.triangle_begin = batch_begin;
-        bin.triangle_count = batch_end - batch_begin;
-        bin.pair_base = pair_base;
-        bin.pair_count = batch_pairs;
-        bin.tiles_x = tiles_x;
-        bin.tile_count = tile_count;
-        bin.tile_keys[0] = scratch_.get(Scratch::TileKeys0, pair_bytes);
-        bin.tile_keys[1] = scratch_.get(Scratch::TileKeys1, pair_bytes);
-        bin.triangle_ids[0] = scratch_.get(Scratch::TriangleIds0, pair_bytes);
-        bin.triangle_ids[1] = scratch_.get(Scratch::TriangleIds1, pair_bytes);
-        bin.histogram = scratch_.get(Scratch::RadixHistogram, parallel::RadixSort::histogram_bytes(batch_pairs));
-        bin.block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::RadixSort::scan_scratch_bytes(batch_pairs));
-        bin.counters = counters_;
-        bin.tile_ranges = scratch_.get(Scratch::TileRanges, std::size_t{tile_count} * 2 * sizeof(cl_uint));
-        const int sorted = bin_.run(queue_, bin);
-
-        raster_.run(queue_, {setup, bin.triangle_ids[sorted], bin.tile_ranges, tiles_x, tiles_y, tile_size_,
-                             target.color, target.depth, static_cast<std::uint32_t>(target.width), uniforms_});
-        batch_begin = batch_end;
-      }
-    }
-    ++stats.chunks;
-    stats.setup_triangles += triangles;
-    chunk_begin += chunk_count;
+  for (std::uint32_t begin = 0; begin < primitives;) {
+    begin += run_chunk(frame, begin, std::min(frame.plan.chunk_primitives, primitives - begin), stats);
   }
+
   stats.triangles_dropped = read_uint(queue_, counters_, CLR_COUNTER_DROPPED);
   stats.peak_memory_bytes = scratch_.peak_bytes();
   stats.stage_times = queue_.collect();
   return stats;
+}
+
+std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats) {
+  // Vertex stage: done once for the draw, or this chunk's stream positions.
+  SlotMap slots{1, 0, 0};
+  cl::Buffer shaded;
+  if (frame.plan.shade_all_vertices) {
+    shaded = scratch_.get(Scratch::ShadedVertices, frame.vertex_count * kShadedVertexBytes);
+  } else {
+    const StreamRange range = stream_range(frame.topology, begin, count);
+    const std::uint32_t slot_count = range.count + (frame.topology == CLR_TOPOLOGY_FAN ? 1 : 0);
+    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{slot_count} * kShadedVertexBytes);
+    vertex_.run(queue_, {frame.buffers, false, range.begin, range.count, slot_count, shaded});
+    slots = {0, range.begin, range.count};
+  }
+
+  // Primitive stage: triangles left per primitive, and their offsets.
+  const cl::Buffer triangle_offsets = scratch_.get(Scratch::TriangleCounts, std::size_t{count} * sizeof(cl_uint));
+  primitive_.run(queue_, {frame.buffers, slots, shaded, begin, count, triangle_offsets});
+  scan_.exclusive(queue_, triangle_offsets, count,
+                  scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count)), counters_);
+  std::uint32_t triangles = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+  if (triangles > frame.plan.setup_capacity) {  // clipping made more triangles than planned: shorten the chunk
+    const std::uint32_t all = count;
+    count = last_offset_within(triangle_offsets, 0, all, triangles, 0, frame.plan.setup_capacity);
+    triangles = offset_at(triangle_offsets, count, all, triangles);
+  }
+  ++stats.chunks;
+  if (triangles == 0) return count;
+
+  // Set-up, then the bin pairs each set-up triangle needs, and their offsets.
+  const cl::Buffer setup = scratch_.get(Scratch::SetupTriangles, std::size_t{triangles} * sizeof(SetupTriangle));
+  const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, std::size_t{triangles} * sizeof(cl_uint));
+  setup_.run(queue_, {frame.buffers, slots, shaded, begin, count, triangle_offsets, setup, pair_offsets});
+  scan_.exclusive(queue_, pair_offsets, triangles,
+                  scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(triangles)), counters_);
+  std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+  if (pairs == kSaturated) {
+    // More bin pairs than 32-bit offsets count (the scan saturated): end the chunk before the
+    // primitive whose triangles reach that far, so that the next chunk starts with it.
+    const std::uint32_t exact = last_offset_within(pair_offsets, 0, triangles, pairs, 0, kSaturated - 1);
+    const std::uint32_t primitive =
+        read_uint(queue_, setup, (exact * sizeof(SetupTriangle) + offsetof(SetupTriangle, primitive_id)) / 4);
+    const std::uint32_t all = count;
+    count = primitive - begin;
+    const std::uint32_t kept = offset_at(triangle_offsets, count, all, triangles);
+    pairs = offset_at(pair_offsets, kept, triangles, pairs);
+    triangles = kept;
+  }
+  stats.setup_triangles += triangles;
+  stats.tile_triangle_pairs += pairs;
+  bin_and_rasterize(frame, setup, pair_offsets, triangles, pairs);
+  return count;
+}
+
+void Pipeline::bin_and_rasterize(const Frame& frame, const cl::Buffer& setup, const cl::Buffer& pair_offsets,
+                                 std::uint32_t triangles, std::uint32_t pairs) {
+  const std::uint32_t tile_count = frame.tiles_x * frame.tiles_y;
+  // In batches of triangles whose pairs fit the plan, in order.
+  for (std::uint32_t batch_begin = 0; batch_begin < triangles;) {
+    const std::uint32_t pair_base = offset_at(pair_offsets, batch_begin, triangles, pairs);
+    const std::uint32_t batch_end =
+        pairs - pair_base <= frame.plan.pair_capacity
+            ? triangles
+            : last_offset_within(pair_offsets, batch_begin, triangles, pairs, pair_base, frame.plan.pair_capacity);
+    const std::uint32_t batch_pairs = offset_at(pair_offsets, batch_end, triangles, pairs) - pair_base;
+    const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
+
+    stages::BinParams bin;
+    bin.triangles = setup;
+    bin.pair_offsets = pair_offsets;
+    bin.triangle_begin = batch_begin;
+    bin.triangle_count = batch_end - batch_begin;
+    bin.pair_base = pair_base;
+    bin.pair_count = batch_pairs;
+    bin.tiles_x = frame.tiles_x;
+    bin.tile_count = tile_count;
+    bin.tile_keys[0] = scratch_.get(Scratch::TileKeys0, pair_bytes);
+    bin.tile_keys[1] = scratch_.get(Scratch::TileKeys1, pair_bytes);
+    bin.triangle_ids[0] = scratch_.get(Scratch::TriangleIds0, pair_bytes);
+    bin.triangle_ids[1] = scratch_.get(Scratch::TriangleIds1, pair_bytes);
+    bin.histogram = scratch_.get(Scratch::RadixHistogram, parallel::RadixSort::histogram_bytes(batch_pairs));
+    bin.block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::RadixSort::scan_scratch_bytes(batch_pairs));
+    bin.counters = counters_;
+    bin.tile_ranges = scratch_.get(Scratch::TileRanges, std::size_t{tile_count} * 2 * sizeof(cl_uint));
+    const int sorted = bin_.run(queue_, bin);
+
+    raster_.run(queue_, {setup, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x, frame.tiles_y, tile_size_,
+                         frame.target->color, frame.target->depth, static_cast<std::uint32_t>(frame.target->width),
+                         uniforms_});
+    batch_begin = batch_end;
+  }
 }
 
 }  // namespace clraster::pipeline

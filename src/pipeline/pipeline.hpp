@@ -60,7 +60,23 @@ class Pipeline {
   std::size_t peak_memory_bytes() const { return scratch_.peak_bytes(); }
 
  private:
+  // What every step of one draw needs.
+  struct Frame {
+    const RenderTarget* target = nullptr;
+    const stages::DrawBuffers* buffers = nullptr;
+    MemoryPlan plan;
+    int topology = 0;
+    std::uint64_t vertex_count = 0;
+    std::uint32_t tiles_x = 0, tiles_y = 0;
+  };
+
   std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);
+  // Runs primitives [begin, begin + count) through every stage; returns how many it took (fewer
+  // when the chunk had to be shortened).
+  std::uint32_t run_chunk(const Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
+  // Bins and rasterizes set-up triangles [0, triangles) whose pair offsets have been scanned.
+  void bin_and_rasterize(const Frame& frame, const cl::Buffer& setup, const cl::Buffer& pair_offsets,
+                         std::uint32_t triangles, std::uint32_t pairs);
   // Largest k in [lo, hi] with offsets[k] - base <= limit, for an exclusive scan whose value at hi
   // (one past its last element) is `end_value`.
   std::uint32_t last_offset_within(const cl::Buffer& offsets, std::uint32_t lo, std::uint32_t hi,
