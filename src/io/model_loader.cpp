@@ -5,10 +5,14 @@
 #include <bit>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <unordered_map>
@@ -16,6 +20,7 @@
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
+#include <assimp/importerdesc.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <glm/geometric.hpp>
@@ -125,6 +130,288 @@ bool reports_bad_vertex_index(std::string message) {
   return mentions({"index", "indices"}) && mentions({"out of range", "outside", "invalid"}) &&
          mentions({"vertex", "vertices", "face", "polygon", "triangle", "point", "position"}) &&
          !mentions({"material", "uv", "texture", "tvertex", "color", "bone", "weight"});
+}
+
+// ---- References that assimp 5.2.5 misreads without a word ---------------------------------------
+//
+// Some of assimp's readers take indices with strtoul10, strtol10 or atoi, which stop at the first
+// character that is not a digit and wrap around past 32 bits, and then use what they got:
+// - OFF and ASCII PLY: "-1" reads as 0 (in PLY, for unsigned index types), 4294967297 as 1, a face
+//   line short of indices gets zeros, and a file short of face lines loses them (OFF) or repeats
+//   the last one (PLY): faces reference the wrong vertices, and nothing in the scene shows it. PLY
+//   indices of floating-point type are cut to integers and wrap too, and PLY triangle strips keep
+//   one triangle each;
+// - OBJ: a reference to a normal or texture coordinate that does not exist, wrapped or not, makes
+//   the reader drop the normals or texture coordinates of the whole mesh.
+// So once one of those readers has read a file (assimp picks it by extension, or else by content),
+// the file's text is checked, cut into lines as that reader cuts it, so as to see the faces it saw:
+// every index must be a plain decimal of something that exists.
+
+// What faces reference, for messages.
+struct Kind {
+  const char* one;
+  const char* many;
+};
+constexpr Kind kVertices{"vertex", "vertices"};
+constexpr Kind kTextureCoordinates{"texture coordinate", "texture coordinates"};
+constexpr Kind kNormals{"normal", "normals"};
+
+// assimp's IsLineEnd.
+bool is_line_end(char c) { return c == '\r' || c == '\n' || c == '\f' || c == '\0'; }
+
+std::size_t line_end(std::string_view text) {
+  return static_cast<std::size_t>(std::find_if(text.begin(), text.end(), is_line_end) - text.begin());
+}
+
+// The words of a line, between spaces and tabs.
+std::vector<std::string_view> words_of(std::string_view line) {
+  std::vector<std::string_view> words;
+  for (std::size_t end = 0;;) {
+    const std::size_t begin = line.find_first_not_of(" \t", end);
+    if (begin == std::string_view::npos) return words;
+    end = std::min(line.find_first_of(" \t", begin), line.size());
+    words.push_back(line.substr(begin, end - begin));
+  }
+}
+
+// A plain decimal below 2^32: digits only.
+std::optional<std::uint32_t> decimal(std::string_view word) {
+  std::uint32_t value = 0;
+  const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+  if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
+  return value;
+}
+
+// A model file's text, for checks that fail naming the line they are about.
+struct Text {
+  const std::string& path;
+  std::string_view all;
+
+  std::string line_of(std::string_view part) const {
+    return "line " + std::to_string(1 + std::count(all.data(), part.data(), '\n'));
+  }
+  [[noreturn]] void fail_on(std::string_view part, const std::string& reason) const {
+    fail(path, line_of(part) + " " + reason);
+  }
+  [[noreturn]] void fail_reference(Kind kind, std::string_view word, std::uint32_t count) const {
+    fail(path, std::string("faces reference ") + kind.many + " that do not exist: " + line_of(word) +
+                   " refers to " + kind.one + " '" + std::string(word) + "' of " + std::to_string(count));
+  }
+  std::uint32_t count(std::string_view word) const {
+    const std::optional<std::uint32_t> value = decimal(word);
+    if (!value) fail_on(word, "has '" + std::string(word) + "' where a count belongs");
+    return *value;
+  }
+  void check_vertex(std::string_view word, std::uint32_t vertices) const {
+    const std::optional<std::uint32_t> index = decimal(word);
+    if (!index || *index >= vertices) fail_reference(kVertices, word, vertices);
+  }
+  // The words of the list in `line` that starts at words[at] with its length; `at` moves past it.
+  std::span<const std::string_view> take_list(std::string_view line, std::span<const std::string_view> words,
+                                              std::size_t& at) const {
+    const std::uint32_t length = count(at < words.size() ? words[at] : line.substr(line.size()));
+    if (words.size() - at - 1 < length) fail_on(line, "ends before its face does");
+    at += 1 + std::size_t{length};
+    return words.subspan(at - length, length);
+  }
+};
+
+// OFF as assimp's reader takes it: the header word by word across line ends and # comments (an
+// optional [ST][C][N][4][n]OFF keyword, a dimension after it for n, then the vertex, face and edge
+// counts); then lines as GetNextLine cuts them, empty ones skipped: one per vertex, then one per
+// face, which starts with its corner count and that many vertex indices.
+void check_off(const Text& text) {
+  constexpr std::size_t kLineBuffer = 4096;  // GetNextLine's: longer lines go on as further lines
+  std::string_view rest = text.all;
+  const auto skip_blanks = [&] {
+    while (!rest.empty() && (rest[0] == ' ' || rest[0] == '\t' || is_line_end(rest[0]) || rest[0] == '#')) {
+      rest.remove_prefix(rest[0] == '#' ? line_end(rest) : 1);
+    }
+  };
+  const auto next_word = [&] {
+    skip_blanks();
+    const std::size_t end = std::min(rest.find_first_of(" \t"), line_end(rest));
+    const std::string_view word = rest.substr(0, end);
+    rest.remove_prefix(end);
+    return word;
+  };
+  const auto next_line = [&] {
+    if (rest.empty()) fail(text.path, "the file ends before its last face");
+    const std::size_t end = std::min(line_end(rest), kLineBuffer);
+    const std::string_view line = rest.substr(0, end);
+    rest.remove_prefix(end);
+    while (!rest.empty() && is_line_end(rest[0])) rest.remove_prefix(1);
+    return line;
+  };
+
+  skip_blanks();
+  for (std::string_view prefix : {"ST", "C", "N", "4"}) {
+    if (rest.starts_with(prefix)) rest.remove_prefix(prefix.size());
+  }
+  const bool has_dimension = rest.starts_with('n');
+  if (has_dimension) rest.remove_prefix(1);
+  if (rest.starts_with("OFF")) rest.remove_prefix(3);
+  if (has_dimension) next_word();
+  const std::uint32_t vertices = text.count(next_word());
+  const std::uint32_t faces = text.count(next_word());
+  text.count(next_word());  // edges, which assimp reads and ignores
+  skip_blanks();
+
+  for (std::uint32_t v = 0; v < vertices; ++v) next_line();
+  for (std::uint32_t f = 0; f < faces; ++f) {
+    const std::string_view line = next_line();
+    const std::vector<std::string_view> words = words_of(line);
+    std::size_t at = 0;
+    for (std::string_view index : text.take_list(line, words, at)) text.check_vertex(index, vertices);
+  }
+}
+
+// The next line as assimp's PLY reader takes it (IOStreamBuffer::getNextLine): a line end where a
+// line should start is skipped through the next '\n', so that one empty line is skipped but a
+// second is a line; the line runs to the next line end, which is consumed.
+std::optional<std::string_view> next_ply_line(std::string_view& rest) {
+  if (!rest.empty() && is_line_end(rest[0])) rest.remove_prefix(std::min(rest.find('\n'), rest.size() - 1) + 1);
+  if (rest.empty()) return std::nullopt;
+  const std::size_t end = line_end(rest);
+  const std::string_view line = rest.substr(0, end);
+  rest.remove_prefix(std::min(end + 1, rest.size()));
+  return line;
+}
+
+// PLY: a header of elements ("element face 12") and their properties ("property float x",
+// "property list uchar int vertex_indices"), then, in ASCII files, each element's entries one line
+// each, their values word by word in the order of the properties. Faces are the entries of
+// "face", their vertex indices the lists "vertex_indices" or "vertex_index".
+void check_ply(const Text& text) {
+  enum class Property { kScalar, kList, kVertexIndices };
+  struct Element {
+    std::string_view name;
+    std::uint32_t count;
+    std::vector<Property> properties;
+  };
+  std::vector<Element> elements;
+  bool ascii = false;
+  std::string_view rest = text.all;
+  for (;;) {
+    const std::optional<std::string_view> line = next_ply_line(rest);
+    if (!line) return;  // no end_header, so assimp read no data
+    const std::vector<std::string_view> words = words_of(*line);
+    const auto word = [&](std::size_t i) { return i < words.size() ? words[i] : line->substr(line->size()); };
+    if (word(0) == "end_header") break;
+    if (word(0) == "format") ascii = word(1) == "ascii";
+    if (word(0) == "element") {
+      if (word(1) == "tristrips") {
+        text.fail_on(*line, "declares triangle strips, of which assimp keeps one triangle each");
+      }
+      elements.push_back({word(1), text.count(word(2)), {}});
+    }
+    if (word(0) == "property" && !elements.empty()) {
+      const bool list = word(1) == "list";
+      const bool indices =
+          list && elements.back().name == "face" && (word(4) == "vertex_indices" || word(4) == "vertex_index");
+      if (indices && (word(3).starts_with("float") || word(3).starts_with("double"))) {
+        const std::string type(word(3));
+        text.fail_on(*line, "declares vertex indices of type " + type + ", which assimp rounds and wraps");
+      }
+      elements.back().properties.push_back(indices ? Property::kVertexIndices
+                                           : list  ? Property::kList
+                                                   : Property::kScalar);
+    }
+  }
+  // Binary integers cannot be misspelled, and assimp's validation refuses those out of range.
+  if (!ascii) return;
+
+  const auto named = [](std::string_view name) { return [name](const Element& e) { return e.name == name; }; };
+  const auto vertex = std::find_if(elements.begin(), elements.end(), named("vertex"));
+  const std::uint32_t vertices = vertex == elements.end() ? 0 : vertex->count;
+  const auto faces_end = std::find_if(elements.rbegin(), elements.rend(), named("face")).base();
+  for (auto element = elements.begin(); element != faces_end; ++element) {
+    for (std::uint32_t i = 0; i < element->count; ++i) {
+      const std::optional<std::string_view> line = next_ply_line(rest);
+      if (!line) fail(text.path, "the file ends before its last face");
+      if (element->name != "face") continue;
+      const std::vector<std::string_view> words = words_of(*line);
+      std::size_t at = 0;
+      for (Property property : element->properties) {
+        if (property == Property::kScalar) {
+          ++at;
+          continue;
+        }
+        for (std::string_view index : text.take_list(*line, words, at)) {
+          if (property == Property::kVertexIndices) text.check_vertex(index, vertices);
+        }
+      }
+    }
+  }
+}
+
+// OBJ: statements are lines, continued past a line end by a '\' before it; one that starts with
+// "v " (or a tab), "vt" or "vn" adds a vertex, texture coordinate or normal, one that starts with
+// "f" is a face of references v, v/vt, v/vt/vn or v//vn: positive ones count from 1 through the
+// whole file, negative ones back from the latest.
+void check_obj(const Text& text) {
+  constexpr std::array<Kind, 3> kinds{kVertices, kTextureCoordinates, kNormals};
+  std::array<std::uint32_t, 3> defined{};
+  std::array<std::int64_t, 3> highest{};  // positive references, checked at the end
+  std::array<std::string_view, 3> highest_word{};
+  const auto next_line = [](std::string_view& rest) {
+    const std::size_t end = line_end(rest);
+    const std::string_view line = rest.substr(0, end);
+    rest.remove_prefix(std::min(end + (rest.substr(end).starts_with("\r\n") ? 2 : 1), rest.size()));
+    return line;
+  };
+  for (std::string_view rest = text.all; !rest.empty();) {
+    const std::string_view first = next_line(rest);
+    std::vector<std::string_view> words;
+    for (std::string_view line = first;; line = next_line(rest)) {
+      const bool continued = line.ends_with('\\');
+      for (std::string_view word : words_of(line.substr(0, line.size() - continued))) words.push_back(word);
+      if (!continued || rest.empty()) break;
+    }
+
+    if (first.starts_with("vt")) {
+      ++defined[1];
+    } else if (first.starts_with("vn")) {
+      ++defined[2];
+    } else if (first.starts_with("v ") || first.starts_with("v\t")) {
+      ++defined[0];
+    } else if (first.starts_with('f')) {
+      for (std::string_view word : std::span(words).subspan(1)) {
+        for (std::size_t k = 0, begin = 0; k < kinds.size() && begin <= word.size(); ++k) {
+          const std::string_view part = word.substr(begin, std::min(word.find('/', begin), word.size()) - begin);
+          begin += part.size() + 1;
+          if (part.empty()) continue;
+          std::int64_t value = 0;
+          const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+          if (error != std::errc() || end != part.data() + part.size() || value == 0 ||
+              value < -std::int64_t{defined[k]}) {
+            text.fail_reference(kinds[k], part, defined[k]);
+          }
+          if (value > highest[k]) {
+            highest[k] = value;
+            highest_word[k] = part;
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    if (highest[k] > defined[k]) text.fail_reference(kinds[k], highest_word[k], defined[k]);
+  }
+}
+
+// Checks the references of a file that assimp read with one of the readers above.
+void check_references(const Assimp::Importer& importer, const std::string& path) {
+  // ReadFile chooses the reader by the file's extension, or else by its content, and leaves the
+  // reader's index in this property.
+  const aiImporterDesc* reader = importer.GetImporterInfo(importer.GetPropertyInteger("importerIndex", -1));
+  if (reader == nullptr) return;
+  const std::string_view format = reader->mFileExtensions;
+  const auto check = format == "off" ? check_off : format == "ply" ? check_ply : format == "obj" ? check_obj : nullptr;
+  if (check == nullptr) return;
+  std::ifstream file(path, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  check(Text{path, text});
 }
 
 struct SkippedPrimitives {
@@ -286,10 +573,12 @@ const aiScene& read_scene(Assimp::Importer& importer, const std::string& path) {
   } catch (const std::exception& error) {  // e.g. std::bad_alloc for absurd element counts
     fail(path, one_line(error.what()));
   }
-  if (scene == nullptr) fail(path, one_line(importer.GetErrorString()));
+  // Before assimp's own failure, which can follow from the repair: a glTF mesh whose faces were all
+  // dropped "has no faces".
   for (const std::string& message : log.messages()) {
     if (reports_bad_vertex_index(message)) fail(path, "faces reference vertices that do not exist (" + message + ")");
   }
+  if (scene == nullptr) fail(path, one_line(importer.GetErrorString()));
   return *scene;
 }
 
@@ -342,6 +631,7 @@ Mesh load_model(const std::string& path, std::vector<std::string>& warnings) {
   require_readable(path);
   Assimp::Importer importer;
   const aiScene& scene = read_scene(importer, path);
+  check_references(importer, path);
   SkippedPrimitives skipped;
   std::vector<Piece> pieces = mesh_instances(scene, is_gltf(path), skipped, path);
 

@@ -24,8 +24,10 @@ namespace clraster::io {
 //   own vertices. A zero sum stays a zero normal;
 // - non-finite coordinates are kept as they are (the pipeline drops such triangles).
 // Throws clraster::InvalidArgument with one line naming the file when the file is missing or
-// unreadable, assimp cannot parse it, it has no triangles, or faces reference vertices that do not
-// exist (also when assimp would repair that by dropping the faces or clamping the indices).
+// unreadable, assimp cannot parse it, it has no triangles, faces reference vertices, normals or
+// texture coordinates that do not exist (also when assimp would repair that by dropping the faces,
+// normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file has what
+// assimp reads wrongly: triangle strips or floating-point vertex indices.
 // Loads from several threads take turns: assimp's logger, which this watches, is process-wide.
 Mesh load_model(const std::string& path, std::vector<std::string>& warnings);
 
