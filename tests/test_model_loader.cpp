@@ -23,32 +23,24 @@
 #include <glm/vec3.hpp>
 
 #include "clraster/clraster.hpp"
+#include "support/mesh_inspection.hpp"
 #include "io/mesh.hpp"
 #include "io/model_loader.hpp"
 
 namespace clraster::io {
 namespace {
 
+using test::corner;
+using test::face_cross;
+using test::normal;
+using test::position;
+
 namespace fs = std::filesystem;
 
 // Installed by the assimp-testmodels package (scripts/setup.sh).
 const fs::path kModels = "/usr/share/assimp/models";
 
-glm::dvec3 position(const Mesh& mesh, std::uint32_t v) {
-  return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
-}
-glm::dvec3 normal(const Mesh& mesh, std::uint32_t v) {
-  return {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
-}
-glm::dvec3 corner(const Mesh& mesh, std::size_t triangle, int k) {
-  return position(mesh, mesh.indices[3 * triangle + k]);
-}
 
-// cross(v1 - v0, v2 - v0): the face normal times twice the area.
-glm::dvec3 face_cross(const Mesh& mesh, std::size_t triangle) {
-  const glm::dvec3 v0 = corner(mesh, triangle, 0);
-  return glm::cross(corner(mesh, triangle, 1) - v0, corner(mesh, triangle, 2) - v0);
-}
 
 testing::AssertionResult near(glm::dvec3 actual, glm::dvec3 expected, double tolerance) {
   if (glm::all(glm::lessThanEqual(glm::abs(actual - expected), glm::dvec3(tolerance)))) {

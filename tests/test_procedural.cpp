@@ -12,30 +12,21 @@
 #include <vector>
 
 #include "clraster/clraster.hpp"
+#include "support/mesh_inspection.hpp"
 #include "io/procedural.hpp"
 
 namespace clraster::io {
 namespace {
 
-glm::vec3 position(const Mesh& mesh, std::uint32_t v) {
-  return {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
-}
-glm::vec3 normal(const Mesh& mesh, std::uint32_t v) {
-  return {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
-}
-glm::vec3 corner(const Mesh& mesh, std::size_t triangle, int k) {
-  return position(mesh, mesh.indices[3 * triangle + k]);
-}
+using test::corner;
+using test::face_cross;
+using test::normal;
+using test::position;
 
-// cross(v1 - v0, v2 - v0): points to the side from which the triangle is counter-clockwise.
-glm::dvec3 face_cross(const Mesh& mesh, std::size_t triangle) {
-  const glm::dvec3 a = corner(mesh, triangle, 0);
-  return glm::cross(glm::dvec3(corner(mesh, triangle, 1)) - a, glm::dvec3(corner(mesh, triangle, 2)) - a);
-}
+
 
 glm::dvec3 centroid(const Mesh& mesh, std::size_t triangle) {
-  return (glm::dvec3(corner(mesh, triangle, 0)) + glm::dvec3(corner(mesh, triangle, 1)) +
-          glm::dvec3(corner(mesh, triangle, 2))) / 3.0;
+  return (corner(mesh, triangle, 0) + corner(mesh, triangle, 1) + corner(mesh, triangle, 2)) / 3.0;
 }
 
 void expect_well_formed(const Mesh& mesh) {
@@ -55,7 +46,7 @@ void expect_winding_follows_normals(const Mesh& mesh) {
     const glm::dvec3 cross = face_cross(mesh, t);
     ASSERT_GT(glm::length(cross), 0) << "triangle " << t;
     for (int k = 0; k < 3; ++k) {
-      ASSERT_GT(glm::dot(cross, glm::dvec3(normal(mesh, mesh.indices[3 * t + k]))), 0) << "triangle " << t;
+      ASSERT_GT(glm::dot(cross, normal(mesh, mesh.indices[3 * t + k])), 0) << "triangle " << t;
     }
   }
 }
@@ -86,10 +77,10 @@ TEST(MakeSphere, CountsRadiiAndOutwardFaces) {
   expect_well_formed(mesh);
   EXPECT_EQ(mesh.vertex_count(), 2u + 16 * 7);
   EXPECT_EQ(mesh.triangle_count(), 2u * 16 * 7);
-  const glm::vec3 c(center.x, center.y, center.z);
+  const glm::dvec3 c(center.x, center.y, center.z);
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    EXPECT_NEAR(glm::distance(position(mesh, v), c), 2.5f, 1e-5f);
-    EXPECT_LT(glm::distance(normal(mesh, v), (position(mesh, v) - c) / 2.5f), 1e-5f);
+    EXPECT_NEAR(glm::distance(position(mesh, v), c), 2.5, 1e-5);
+    EXPECT_LT(glm::distance(normal(mesh, v), (position(mesh, v) - c) / 2.5), 1e-5);
   }
   expect_winding_follows_normals(mesh);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -119,13 +110,13 @@ TEST(MakeBox, TwentyFourVerticesWithFlatOutwardNormals) {
   expect_winding_follows_normals(mesh);
   double area = 0;
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const glm::vec3 n = normal(mesh, mesh.indices[3 * t]);
-    EXPECT_LT(glm::distance(glm::vec3(glm::normalize(face_cross(mesh, t))), n), 1e-6f) << "triangle " << t;
+    const glm::dvec3 n = normal(mesh, mesh.indices[3 * t]);
+    EXPECT_LT(glm::distance(glm::normalize(face_cross(mesh, t)), n), 1e-6) << "triangle " << t;
     area += glm::length(face_cross(mesh, t)) / 2;
   }
   EXPECT_DOUBLE_EQ(area, 2 * (4 * 1 + 4 * 0.5 + 1 * 0.5));
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const glm::vec3 p = position(mesh, v);
+    const glm::dvec3 p = position(mesh, v);
     EXPECT_TRUE(p.x == -1 || p.x == 3);
     EXPECT_TRUE(p.y == 0 || p.y == 1);
     EXPECT_TRUE(p.z == 2 || p.z == 2.5f);
@@ -137,9 +128,9 @@ TEST(MakeTerrain, CountsExtentsAndCounterClockwiseFromAbove) {
   expect_well_formed(mesh);
   EXPECT_EQ(mesh.vertex_count(), 41u * 31);
   EXPECT_EQ(mesh.triangle_count(), 2u * 40 * 30);
-  float min_x = INFINITY, max_x = -INFINITY, min_z = INFINITY, max_z = -INFINITY, min_y = INFINITY, max_y = -INFINITY;
+  double min_x = INFINITY, max_x = -INFINITY, min_z = INFINITY, max_z = -INFINITY, min_y = INFINITY, max_y = -INFINITY;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const glm::vec3 p = position(mesh, v);
+    const glm::dvec3 p = position(mesh, v);
     min_x = std::min(min_x, p.x), max_x = std::max(max_x, p.x);
     min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
     min_z = std::min(min_z, p.z), max_z = std::max(max_z, p.z);
@@ -180,7 +171,7 @@ TEST(MakePlane, TilesTheRectangleFacingZ) {
     area += glm::length(face_cross(mesh, t)) / 2;
   }
   EXPECT_NEAR(area, 3.5 * 2, 1e-9);
-  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) EXPECT_EQ(normal(mesh, v), glm::vec3(0, 0, 1));
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) EXPECT_EQ(normal(mesh, v), glm::dvec3(0, 0, 1));
 }
 
 TEST(MakeRandomTriangles, SeparateTrianglesInsideTheBox) {
@@ -190,13 +181,13 @@ TEST(MakeRandomTriangles, SeparateTrianglesInsideTheBox) {
   ASSERT_EQ(mesh.triangle_count(), 5000u);
   ASSERT_EQ(mesh.vertex_count(), 15000u);
   for (std::uint32_t i = 0; i < mesh.indices.size(); ++i) ASSERT_EQ(mesh.indices[i], i);
-  float largest_extent = 0;
+  double largest_extent = 0;
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const glm::vec3 p = position(mesh, v);
+    const glm::dvec3 p = position(mesh, v);
     ASSERT_TRUE(p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z) << v;
   }
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const glm::vec3 extent = glm::max(glm::max(corner(mesh, t, 0), corner(mesh, t, 1)), corner(mesh, t, 2)) -
+    const glm::dvec3 extent = glm::max(glm::max(corner(mesh, t, 0), corner(mesh, t, 1)), corner(mesh, t, 2)) -
                              glm::min(glm::min(corner(mesh, t, 0), corner(mesh, t, 1)), corner(mesh, t, 2));
     largest_extent = std::max({largest_extent, extent.x, extent.y, extent.z});
   }
@@ -238,9 +229,9 @@ TEST(Transform, MovesPositionsAndTurnsNormals) {
   expect_well_formed(mesh);
   EXPECT_EQ(mesh.indices, original.indices);
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-    const glm::vec3 p = position(original, v), n = normal(original, v);
-    EXPECT_LT(glm::distance(position(mesh, v), glm::vec3(10 - p.y, p.x, p.z)), 1e-5f);
-    EXPECT_LT(glm::distance(normal(mesh, v), glm::vec3(-n.y, n.x, n.z)), 1e-6f);
+    const glm::dvec3 p = position(original, v), n = normal(original, v);
+    EXPECT_LT(glm::distance(position(mesh, v), glm::dvec3(10 - p.y, p.x, p.z)), 1e-5);
+    EXPECT_LT(glm::distance(normal(mesh, v), glm::dvec3(-n.y, n.x, n.z)), 1e-6);
   }
 }
 
@@ -253,8 +244,8 @@ TEST(Transform, NonUniformScaleUsesTheInverseTranspose) {
   mesh.normals = {h, h, 0, h, h, 0, h, h, 0};
   mesh.indices = {0, 2, 1};
   transform(mesh, glm::scale(glm::mat4(1), glm::vec3(4, 1, 1)));
-  const glm::vec3 expected = glm::normalize(glm::vec3(0.25f, 1, 0));
-  for (std::uint32_t v = 0; v < 3; ++v) EXPECT_LT(glm::distance(normal(mesh, v), expected), 1e-6f);
+  const glm::dvec3 expected = glm::normalize(glm::dvec3(0.25, 1, 0));
+  for (std::uint32_t v = 0; v < 3; ++v) EXPECT_LT(glm::distance(normal(mesh, v), expected), 1e-6);
   expect_winding_follows_normals(mesh);
 }
 
@@ -273,7 +264,7 @@ TEST(Transform, FlatteningKeepsTheNormalsOfTheFlatAxis) {
   Mesh mesh = make_plane(2, 2, 1, 1);
   transform(mesh, glm::scale(glm::mat4(1), glm::vec3(3, 2, 0)));
   expect_well_formed(mesh);
-  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) EXPECT_EQ(normal(mesh, v), glm::vec3(0, 0, 1));
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) EXPECT_EQ(normal(mesh, v), glm::dvec3(0, 0, 1));
 }
 
 TEST(Procedural, InvalidArgumentsAreErrors) {

@@ -1,9 +1,9 @@
 #include "io/camera.hpp"
+#include "io/format.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <sstream>
 #include <string_view>
 
 #include <glm/ext/matrix_clip_space.hpp>
@@ -13,12 +13,6 @@
 
 namespace clraster::io {
 namespace {
-
-std::string format_number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
 
 std::string format_vec3(glm::vec3 v) {
   return "(" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + ")";

@@ -1,10 +1,10 @@
 #include "io/procedural.hpp"
+#include "io/format.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -19,12 +19,6 @@ namespace clraster::io {
 namespace {
 
 // ---- Argument checks ---------------------------------------------------------------------------
-
-std::string format_number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
 
 void require_count(const char* function, const char* name, int value, int minimum) {
   if (value < minimum) {

@@ -1,5 +1,7 @@
 #include "oracle/gl_renderer.hpp"
 
+#include "pipeline/draw_state.hpp"
+
 #define GL_GLEXT_PROTOTYPES
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -424,50 +426,15 @@ void apply_fixed_function_state(const DrawState& state, int framebuffer_width, i
   }
 }
 
-// The host-side matrices are computed as clraster computes them, in double and rounded once to float,
-// so that the oracle and the pipeline start from the same float inputs.
 
-// Column-major a * b.
-Mat4 multiply(const Mat4& a, const Mat4& b) {
-  Mat4 product{};
-  for (int column = 0; column < 4; ++column) {
-    for (int row = 0; row < 4; ++row) {
-      double sum = 0;
-      for (int k = 0; k < 4; ++k) sum += double{a[k * 4 + row]} * double{b[column * 4 + k]};
-      product[column * 4 + row] = float(sum);
-    }
-  }
-  return product;
-}
-
-// Inverse transpose of m's upper-left 3x3 (GL's classic gl_NormalMatrix), column-major. For a
-// model_view whose bottom row is (0, 0, 0, 1) this equals mat3(transpose(inverse(model_view))).
-// inverse = transpose(cofactors) / det, so the inverse transpose is cofactors / det; a singular
-// matrix gets the cofactors alone, which keep the normals' directions.
-std::array<float, 9> normal_matrix(const Mat4& m) {
-  const auto at = [&](int row, int column) { return double{m[column * 4 + row]}; };
-  double cofactors[3][3];
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-      cofactors[r][c] = at(r1, c1) * at(r2, c2) - at(r1, c2) * at(r2, c1);
-    }
-  }
-  const double det = at(0, 0) * cofactors[0][0] + at(0, 1) * cofactors[0][1] + at(0, 2) * cofactors[0][2];
-  const double scale = det != 0.0 ? 1.0 / det : 1.0;
-  std::array<float, 9> result{};
-  for (int c = 0; c < 3; ++c) {
-    for (int r = 0; r < 3; ++r) result[c * 3 + r] = float(cofactors[r][c] * scale);
-  }
-  return result;
-}
-
+// The matrices are the ones clraster's pipeline computes (in double, rounded once to float), so the
+// oracle and the pipeline transform the same object-space data with the same floats.
 void set_uniforms(const ShadingProgram& program, const DrawState& state) {
-  const Mat4 mvp = multiply(state.projection, state.model_view);
+  const Mat4 mvp = pipeline::model_view_projection(state);
   glProgramUniformMatrix4fv(program.id, program.model_view_projection, 1, GL_FALSE, mvp.data());
   glProgramUniformMatrix4fv(program.id, program.model_view, 1, GL_FALSE, state.model_view.data());
   if (state.shading == Shading::Lambert) {
-    const std::array<float, 9> normals = normal_matrix(state.model_view);
+    const std::array<float, 9> normals = pipeline::normal_matrix(state.model_view);
     glProgramUniformMatrix3fv(program.id, program.normal_matrix, 1, GL_FALSE, normals.data());
   }
   glProgramUniform4fv(program.id, program.base_color, 1, state.base_color.data());

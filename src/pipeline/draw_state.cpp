@@ -14,36 +14,6 @@ std::string rect_text(const Rect& r) {
          std::to_string(r.height) + ")";
 }
 
-// Column-major 4x4 product in double, rounded once to float.
-void multiply(const Mat4& a, const Mat4& b, float* out) {
-  for (int column = 0; column < 4; ++column) {
-    for (int row = 0; row < 4; ++row) {
-      double sum = 0;
-      for (int k = 0; k < 4; ++k) sum += double{a[k * 4 + row]} * double{b[column * 4 + k]};
-      out[column * 4 + row] = static_cast<float>(sum);
-    }
-  }
-}
-
-// Inverse transpose of the upper 3x3 (column-major), the matrix that keeps normals perpendicular to
-// surfaces. A singular matrix gets its cofactor matrix: the same directions, unscaled.
-void normal_matrix(const Mat4& m, float* out) {
-  const auto a = [&](int row, int column) { return double{m[column * 4 + row]}; };
-  double cofactor[3][3];
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-      cofactor[r][c] = a(r1, c1) * a(r2, c2) - a(r1, c2) * a(r2, c1);
-    }
-  }
-  const double det = a(0, 0) * cofactor[0][0] + a(0, 1) * cofactor[0][1] + a(0, 2) * cofactor[0][2];
-  const double scale = std::abs(det) > 1e-300 ? 1.0 / det : 1.0;
-  // inverse = transpose(cofactor) / det, so inverse transpose = cofactor / det.
-  for (int c = 0; c < 3; ++c) {
-    for (int r = 0; r < 3; ++r) out[c * 3 + r] = static_cast<float>(cofactor[r][c] * scale);
-  }
-}
-
 void check_rect(const char* what, const Rect& r, int max_size, int max_offset) {
   if (r.width < 0 || r.height < 0 || r.width > max_size || r.height > max_size || std::abs(r.x) > max_offset ||
       std::abs(r.y) > max_offset) {
@@ -54,11 +24,44 @@ void check_rect(const char* what, const Rect& r, int max_size, int max_offset) {
 
 }  // namespace
 
+Mat4 model_view_projection(const DrawState& state) {
+  Mat4 product{};
+  for (int column = 0; column < 4; ++column) {
+    for (int row = 0; row < 4; ++row) {
+      double sum = 0;
+      for (int k = 0; k < 4; ++k) sum += double{state.projection[k * 4 + row]} * double{state.model_view[column * 4 + k]};
+      product[column * 4 + row] = static_cast<float>(sum);
+    }
+  }
+  return product;
+}
+
+std::array<float, 9> normal_matrix(const Mat4& m) {
+  const auto a = [&](int row, int column) { return double{m[column * 4 + row]}; };
+  double cofactor[3][3];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+      cofactor[r][c] = a(r1, c1) * a(r2, c2) - a(r1, c2) * a(r2, c1);
+    }
+  }
+  const double det = a(0, 0) * cofactor[0][0] + a(0, 1) * cofactor[0][1] + a(0, 2) * cofactor[0][2];
+  const double scale = det != 0.0 ? 1.0 / det : 1.0;
+  // inverse = transpose(cofactor) / det, so inverse transpose = cofactor / det.
+  std::array<float, 9> result{};
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) result[c * 3 + r] = static_cast<float>(cofactor[r][c] * scale);
+  }
+  return result;
+}
+
 DrawUniforms make_uniforms(const DrawState& s, int width, int height) {
   DrawUniforms u{};
-  multiply(s.projection, s.model_view, u.mvp);
+  const Mat4 mvp = model_view_projection(s);
+  std::copy(mvp.begin(), mvp.end(), u.mvp);
   std::copy(s.model_view.begin(), s.model_view.end(), u.model_view);
-  normal_matrix(s.model_view, u.normal_matrix);
+  const std::array<float, 9> normals = normal_matrix(s.model_view);
+  std::copy(normals.begin(), normals.end(), u.normal_matrix);
   std::copy(s.base_color.begin(), s.base_color.end(), u.base_color);
 
   if (s.shading == Shading::Depth &&

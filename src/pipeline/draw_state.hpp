@@ -4,7 +4,17 @@
 #include "clraster/clraster.hpp"
 #include "stages/types.h"
 
+#include <array>
+
 namespace clraster::pipeline {
+
+// projection * model_view, computed in double and rounded once to float: the matrix the vertex
+// program applies (the OpenGL oracle uses the same one, so both start from the same floats).
+Mat4 model_view_projection(const DrawState& state);
+
+// The inverse transpose of model_view's upper 3x3, column-major: what keeps normals perpendicular to
+// surfaces. A singular matrix gets its cofactor matrix, which keeps the normals' directions.
+std::array<float, 9> normal_matrix(const Mat4& model_view);
 
 // Throws InvalidArgument naming the field and value for anything out of range.
 DrawUniforms make_uniforms(const DrawState& state, int framebuffer_width, int framebuffer_height);
