@@ -3,6 +3,6 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh"
-"$root/scripts/build.sh"
+CLRASTER_TARGET=clraster_cli "$root/scripts/build.sh"
 "$root/build/src/clraster" render --output "$root/demo.png" --size 1280x720 --stats
 echo "demo: wrote $root/demo.png"
