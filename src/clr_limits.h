@@ -44,6 +44,7 @@
 /* ---- Memory budget -----------------------------------------------------------------------------
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */
 #define CLR_MAX_CHUNK_PRIMITIVES (1u << 20) /* primitives per geometry chunk at most */
+#define CLR_OVERFLOW_DIVISOR 8               /* room for clipped triangles: 1/8 of a chunk's primitives */
 #define CLR_BUFFER_GROWTH_NUM 3              /* scratch buffers grow by 3/2 when too small */
 #define CLR_BUFFER_GROWTH_DEN 2
 

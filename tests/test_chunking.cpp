@@ -76,7 +76,6 @@ TEST(Chunking, AMillionTrianglesUnderTheSmallestCapMatchOnePiece) {
   EXPECT_LE(chunked.stats.peak_memory_bytes, kMinMemoryCap);
   EXPECT_LE(whole.stats.peak_memory_bytes, kDefaultMemoryCap);
   EXPECT_EQ(chunked.stats.triangles, scene.mesh.triangle_count());
-  EXPECT_EQ(chunked.stats.setup_triangles, whole.stats.setup_triangles);
   EXPECT_EQ(chunked.stats.tile_triangle_pairs, whole.stats.tile_triangle_pairs);
   EXPECT_TRUE(images_match(chunked.image, whole.image, kExact));
 }

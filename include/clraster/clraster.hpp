@@ -236,8 +236,7 @@ struct DrawCall {
 // Device time spent in each stage of a draw, in milliseconds (zero unless ContextOptions::profile).
 struct StageTimes {
   double vertex_ms = 0;     // vertex program
-  double primitive_ms = 0;  // assembly, clipping, culling, and the scan that places the triangles
-  double setup_ms = 0;      // triangle set-up and the scan that places the bin pairs
+  double setup_ms = 0;      // assembly, clipping, culling, triangle set-up, and the scans that place them
   double binning_ms = 0;    // bin pairs, radix sort by tile, tile ranges
   double raster_ms = 0;     // rasterization, depth test, interpolation, shading, blending
   double other_ms = 0;      // index validation, clears and transfers
@@ -246,7 +245,6 @@ struct StageTimes {
 struct DrawStats {
   std::uint64_t triangles = 0;            // primitives assembled from the input
   std::uint64_t triangles_dropped = 0;    // of those, dropped for non-finite clip coordinates
-  std::uint64_t setup_triangles = 0;      // triangles after clipping and culling
   std::uint64_t chunks = 0;               // pieces the draw was split into to stay under the memory cap
   std::uint64_t tile_triangle_pairs = 0;  // (tile, triangle) bin entries rasterized
   std::uint64_t peak_memory_bytes = 0;    // largest total of intermediate buffers held, so far, by the context

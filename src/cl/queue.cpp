@@ -10,7 +10,6 @@ StageTimes Queue::collect() {
                                           event.getProfilingInfo<CL_PROFILING_COMMAND_START>()) * 1e-6;
     switch (stage) {
       case Stage::Vertex: times.vertex_ms += ms; break;
-      case Stage::Primitive: times.primitive_ms += ms; break;
       case Stage::Setup: times.setup_ms += ms; break;
       case Stage::Binning: times.binning_ms += ms; break;
       case Stage::Raster: times.raster_ms += ms; break;

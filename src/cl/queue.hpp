@@ -11,7 +11,7 @@
 
 namespace clraster::cl_host {
 
-enum class Stage { Vertex, Primitive, Setup, Binning, Raster, Other };
+enum class Stage { Vertex, Setup, Binning, Raster, Other };
 
 class Queue {
  public:

@@ -135,13 +135,11 @@ int render(const RenderOptions& options) {
     stats = {{"backend", "clraster"},
              {"device", context.device().name},
              {"triangles_dropped", draw_stats.triangles_dropped},
-             {"setup_triangles", draw_stats.setup_triangles},
              {"chunks", draw_stats.chunks},
              {"tile_triangle_pairs", draw_stats.tile_triangle_pairs},
              {"peak_memory_bytes", draw_stats.peak_memory_bytes},
              {"stage_ms",
               {{"vertex", stage.vertex_ms},
-               {"primitive", stage.primitive_ms},
                {"setup", stage.setup_ms},
                {"binning", stage.binning_ms},
                {"raster", stage.raster_ms},
@@ -156,9 +154,9 @@ int render(const RenderOptions& options) {
     });
     image = gl.read_color();
     // OpenGL does not say how it drew: clraster's own counters are null.
-    stats = {{"backend", "gl"},          {"device", gl.renderer()}, {"triangles_dropped", nullptr},
-             {"setup_triangles", nullptr}, {"chunks", nullptr},       {"tile_triangle_pairs", nullptr},
-             {"peak_memory_bytes", nullptr}, {"stage_ms", nullptr}};
+    stats = {{"backend", "gl"},     {"device", gl.renderer()},       {"triangles_dropped", nullptr},
+             {"chunks", nullptr}, {"tile_triangle_pairs", nullptr}, {"peak_memory_bytes", nullptr},
+             {"stage_ms", nullptr}};
   }
   io::save_png(options.output, image);
 

@@ -22,8 +22,8 @@ struct MemoryPlan {
   // Indexed draws whose transformed vertices fit in a quarter of the cap shade each vertex once per
   // draw; others shade each chunk's stream positions.
   bool shade_all_vertices = false;
-  std::uint32_t chunk_primitives = 0;  // primitives per geometry chunk
-  std::uint32_t setup_capacity = 0;    // set-up triangles per chunk (clipping can make more than one)
+  std::uint32_t chunk_primitives = 0;   // primitives per geometry chunk
+  std::uint32_t overflow_capacity = 0;  // triangles of a chunk's clipped primitives (more shorten it)
   std::uint64_t pair_capacity = 0;     // bin pairs per raster batch
   resources::ScratchSizes buffer_bytes{};
 };

@@ -40,7 +40,6 @@ Pipeline::Pipeline(cl::Context context, cl_host::Queue& queue, const cl::Program
       scan_(program),
       sort_(program, scan_),
       vertex_(program),
-      primitive_(program),
       setup_(program),
       bin_(program, sort_),
       raster_(program) {}
@@ -55,8 +54,8 @@ std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t fi
   return cache.largest;
 }
 
-std::uint32_t Pipeline::offset_at(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count,
-                                  std::uint32_t total) {
+std::uint32_t Pipeline::read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count,
+                                    std::uint32_t total) {
   if (index == 0) return 0;
   if (index == count) return total;
   return read_uint(queue_, offsets, index);
@@ -153,63 +152,64 @@ std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::
     slots = {0, range.begin, range.count};
   }
 
-  // Primitive stage: triangles left per primitive, and their offsets.
-  const cl::Buffer triangle_offsets = scratch_.get(Scratch::TriangleCounts, std::size_t{count} * sizeof(cl_uint));
-  primitive_.run(queue_, {frame.buffers, slots, shaded, begin, count, triangle_offsets});
-  scan_.exclusive(queue_, triangle_offsets, count,
-                  scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count)), counters_);
-  std::uint32_t triangles = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
-  if (triangles > frame.plan.setup_capacity) {  // clipping made more triangles than planned: shorten the chunk
-    const std::uint32_t all = count;
-    count = last_offset_within(triangle_offsets, 0, all, triangles, 0, frame.plan.setup_capacity);
-    triangles = offset_at(triangle_offsets, count, all, triangles);
+  // Set-up: a record per primitive, and for primitives that cross a clip plane the number of
+  // triangles clipping leaves. Both count arrays get one more entry, zero, whose exclusive scan is
+  // the total.
+  const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
+  const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * sizeof(SetupTriangle));
+  const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, count_bytes);
+  const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
+  const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
+  setup_.run(queue_, {frame.buffers, slots, shaded, begin, count, records, pair_offsets, clipped_offsets});
+  cl_host::fill(queue_, clipped_offsets, cl_uint{0}, count * sizeof(cl_uint), sizeof(cl_uint));
+  scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
+  std::uint32_t clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+  if (clipped > frame.plan.overflow_capacity) {  // more clipping than planned for: shorten the chunk
+    count = last_offset_within(clipped_offsets, 0, count, clipped, 0, frame.plan.overflow_capacity);
+    clipped = read_uint(queue_, clipped_offsets, count);
   }
-  ++stats.chunks;
-  if (triangles == 0) return count;
+  const cl::Buffer overflow =
+      scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * sizeof(SetupTriangle));
+  if (clipped > 0) {
+    setup_.run_clipped(queue_, {frame.buffers, slots, shaded, begin, count, clipped_offsets, overflow, pair_offsets});
+  }
 
-  // Set-up, then the bin pairs each set-up triangle needs, and their offsets.
-  const cl::Buffer setup = scratch_.get(Scratch::SetupTriangles, std::size_t{triangles} * sizeof(SetupTriangle));
-  const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, std::size_t{triangles} * sizeof(cl_uint));
-  setup_.run(queue_, {frame.buffers, slots, shaded, begin, count, triangle_offsets, setup, pair_offsets});
-  scan_.exclusive(queue_, pair_offsets, triangles,
-                  scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(triangles)), counters_);
+  // Where each primitive's bin pairs go.
+  cl_host::fill(queue_, pair_offsets, cl_uint{0}, count * sizeof(cl_uint), sizeof(cl_uint));
+  scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
   std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
   if (pairs == kSaturated) {
-    // More bin pairs than 32-bit offsets count (the scan saturated): end the chunk before the
-    // primitive whose triangles reach that far, so that the next chunk starts with it.
-    const std::uint32_t exact = last_offset_within(pair_offsets, 0, triangles, pairs, 0, kSaturated - 1);
-    const std::uint32_t primitive =
-        read_uint(queue_, setup, (exact * sizeof(SetupTriangle) + offsetof(SetupTriangle, primitive_id)) / 4);
-    const std::uint32_t all = count;
-    count = primitive - begin;
-    const std::uint32_t kept = offset_at(triangle_offsets, count, all, triangles);
-    pairs = offset_at(pair_offsets, kept, triangles, pairs);
-    triangles = kept;
+    // More bin pairs than 32-bit offsets count (the scan saturated): end the chunk at the last
+    // primitive whose offset is still exact; the next chunk starts with the rest.
+    count = last_offset_within(pair_offsets, 0, count, pairs, 0, kSaturated - 1);
+    pairs = read_uint(queue_, pair_offsets, count);
   }
-  stats.setup_triangles += triangles;
+  ++stats.chunks;
   stats.tile_triangle_pairs += pairs;
-  bin_and_rasterize(frame, setup, pair_offsets, triangles, pairs);
+  if (pairs > 0) bin_and_rasterize(frame, {records, overflow, clipped_offsets, pair_offsets}, count, pairs);
   return count;
 }
 
-void Pipeline::bin_and_rasterize(const Frame& frame, const cl::Buffer& setup, const cl::Buffer& pair_offsets,
-                                 std::uint32_t triangles, std::uint32_t pairs) {
+void Pipeline::bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
+                                 std::uint32_t pairs) {
   const std::uint32_t tile_count = frame.tiles_x * frame.tiles_y;
-  // In batches of triangles whose pairs fit the plan, in order.
-  for (std::uint32_t batch_begin = 0; batch_begin < triangles;) {
-    const std::uint32_t pair_base = offset_at(pair_offsets, batch_begin, triangles, pairs);
+  // In batches of primitives whose pairs fit the plan, in order.
+  for (std::uint32_t batch_begin = 0; batch_begin < primitives;) {
+    const std::uint32_t pair_base = read_offset(chunk.pair_offsets, batch_begin, primitives, pairs);
     const std::uint32_t batch_end =
         pairs - pair_base <= frame.plan.pair_capacity
-            ? triangles
-            : last_offset_within(pair_offsets, batch_begin, triangles, pairs, pair_base, frame.plan.pair_capacity);
-    const std::uint32_t batch_pairs = offset_at(pair_offsets, batch_end, triangles, pairs) - pair_base;
+            ? primitives
+            : last_offset_within(chunk.pair_offsets, batch_begin, primitives, pairs, pair_base, frame.plan.pair_capacity);
+    const std::uint32_t batch_pairs = read_offset(chunk.pair_offsets, batch_end, primitives, pairs) - pair_base;
     const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
 
     stages::BinParams bin;
-    bin.triangles = setup;
-    bin.pair_offsets = pair_offsets;
-    bin.triangle_begin = batch_begin;
-    bin.triangle_count = batch_end - batch_begin;
+    bin.records = chunk.records;
+    bin.overflow = chunk.overflow;
+    bin.clipped_offsets = chunk.clipped_offsets;
+    bin.pair_offsets = chunk.pair_offsets;
+    bin.primitive_begin = batch_begin;
+    bin.primitive_count = batch_end - batch_begin;
     bin.pair_base = pair_base;
     bin.pair_count = batch_pairs;
     bin.tiles_x = frame.tiles_x;
@@ -224,9 +224,9 @@ void Pipeline::bin_and_rasterize(const Frame& frame, const cl::Buffer& setup, co
     bin.tile_ranges = scratch_.get(Scratch::TileRanges, std::size_t{tile_count} * 2 * sizeof(cl_uint));
     const int sorted = bin_.run(queue_, bin);
 
-    raster_.run(queue_, {setup, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x, frame.tiles_y, tile_size_,
-                         frame.target->color, frame.target->depth, static_cast<std::uint32_t>(frame.target->width),
-                         uniforms_});
+    raster_.run(queue_, {chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x,
+                         frame.tiles_y, tile_size_, frame.target->color, frame.target->depth,
+                         static_cast<std::uint32_t>(frame.target->width), uniforms_});
     batch_begin = batch_end;
   }
 }

@@ -1,10 +1,10 @@
 // The pipeline: runs a draw through every stage, chunk by chunk, within the memory cap.
 //
-//   vertex -> primitive (assembly, clipping, culling: counts) -> scan -> setup -> scan
-//          -> bin (emit pairs, radix sort by tile, tile ranges) -> raster
+//   vertex -> setup (assembly, clipping, culling, set-up) -> scans -> bin (emit pairs, radix sort by
+//   tile, tile ranges) -> raster
 //
 // All per-vertex, per-triangle and per-pixel work runs in kernels. The host only reads back the
-// totals that size the next step (triangles per chunk, pairs per chunk) and, when a chunk overflows
+// totals that size the next step (clipped triangles and pairs per chunk) and, when a chunk overflows
 // what the plan gave it, binary-searches the offsets to split it.
 #pragma once
 
@@ -13,7 +13,6 @@
 #include "pipeline/memory_plan.hpp"
 #include "resources/scratch.hpp"
 #include "stages/bin.hpp"
-#include "stages/primitive.hpp"
 #include "stages/raster.hpp"
 #include "stages/setup.hpp"
 #include "stages/vertex.hpp"
@@ -74,14 +73,22 @@ class Pipeline {
   // Runs primitives [begin, begin + count) through every stage; returns how many it took (fewer
   // when the chunk had to be shortened).
   std::uint32_t run_chunk(const Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
-  // Bins and rasterizes set-up triangles [0, triangles) whose pair offsets have been scanned.
-  void bin_and_rasterize(const Frame& frame, const cl::Buffer& setup, const cl::Buffer& pair_offsets,
-                         std::uint32_t triangles, std::uint32_t pairs);
+  // A chunk's set-up triangles, ready for binning.
+  struct ChunkTriangles {
+    cl::Buffer records;          // per primitive
+    cl::Buffer overflow;         // of clipped primitives
+    cl::Buffer clipped_offsets;  // per primitive, into overflow
+    cl::Buffer pair_offsets;     // per primitive, of its bin pairs
+  };
+  // Bins and rasterizes the triangles of primitives [0, primitives) of the chunk.
+  void bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
+                         std::uint32_t pairs);
   // Largest k in [lo, hi] with offsets[k] - base <= limit, for an exclusive scan whose value at hi
   // (one past its last element) is `end_value`.
   std::uint32_t last_offset_within(const cl::Buffer& offsets, std::uint32_t lo, std::uint32_t hi,
                                    std::uint32_t end_value, std::uint64_t base, std::uint64_t limit);
-  std::uint32_t offset_at(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
+  // offsets[index] of an exclusive scan of `count` values whose total is known (read only when needed).
+  std::uint32_t read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
 
   cl::Context context_;
   cl_host::Queue& queue_;
@@ -95,7 +102,6 @@ class Pipeline {
   parallel::Scan scan_;
   parallel::RadixSort sort_;
   stages::VertexStage vertex_;
-  stages::PrimitiveStage primitive_;
   stages::SetupStage setup_;
   stages::BinStage bin_;
   stages::RasterStage raster_;

@@ -10,10 +10,11 @@
 namespace clraster::resources {
 
 enum class Scratch : int {
-  ShadedVertices,  // vertex stage output
-  TriangleCounts,  // per primitive: triangles it leaves after clipping and culling, then their offsets
-  SetupTriangles,  // SetupTriangle records
-  PairCounts,      // per set-up triangle: tiles it touches, then the offsets of its bin pairs
+  ShadedVertices,   // vertex stage output
+  Records,          // per primitive of a chunk: its SetupTriangle, when it needs no clipping
+  OverflowRecords,  // the SetupTriangles of the chunk's clipped primitives
+  ClippedCounts,    // per primitive (+ 1): triangles clipping leaves, then their offsets in OverflowRecords
+  PairCounts,       // per primitive (+ 1): tiles its triangles touch, then the offsets of its bin pairs
   TileKeys0,       // bin pairs: tile keys and triangle ids, twice for the radix sort's ping-pong
   TileKeys1,
   TriangleIds0,

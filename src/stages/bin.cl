@@ -1,22 +1,38 @@
 /* bin.cl: binning. Every set-up triangle emits one (tile, triangle) pair per tile its bounding box
- * touches, at offsets from a scan of the pair counts, so pairs come out in triangle order. A stable
- * radix sort by tile (radix_sort.cl) then groups them per tile without disturbing that order, and
- * tile_ranges finds where each tile's run starts and ends. */
+ * touches, at its primitive's offset from a scan of the per-primitive pair counts, so pairs come out
+ * in primitive order. A stable radix sort by tile (radix_sort.cl) then groups them per tile without
+ * disturbing that order, and tile_ranges finds where each tile's run starts and ends.
+ *
+ * Triangle ids: a primitive's own record (setup.cl) is id = primitive index in the chunk; triangles
+ * left by clipping are CLR_OVERFLOW_TRIANGLE | their index in the overflow records. */
 
-__kernel void bin_emit(uint triangle_begin, uint triangle_count, __global const SetupTriangle* triangles,
-                       __global const uint* pair_offsets, uint pair_base, uint tiles_x,
-                       __global uint* tile_keys, __global uint* triangle_ids) {
-  const uint i = get_global_id(0);
-  if (i >= triangle_count) return;
-  const uint triangle = triangle_begin + i;
-  const uint pixel_min = triangles[triangle].pixel_min;
-  const uint pixel_max = triangles[triangle].pixel_max;
-  uint out = pair_offsets[triangle] - pair_base;
+inline uint emit_tiles(__global const SetupTriangle* t, uint id, uint tiles_x, uint out, __global uint* tile_keys,
+                       __global uint* triangle_ids) {
+  const uint pixel_min = t->pixel_min;
+  const uint pixel_max = t->pixel_max;
   for (uint ty = (pixel_min >> 16) / CLR_TILE_SIZE; ty <= (pixel_max >> 16) / CLR_TILE_SIZE; ++ty) {
     for (uint tx = (pixel_min & 0xffffu) / CLR_TILE_SIZE; tx <= (pixel_max & 0xffffu) / CLR_TILE_SIZE; ++tx) {
       tile_keys[out] = ty * tiles_x + tx;
-      triangle_ids[out] = triangle;
+      triangle_ids[out] = id;
       ++out;
+    }
+  }
+  return out;
+}
+
+__kernel void bin_emit(uint primitive_begin, uint primitive_count, __global const SetupTriangle* records,
+                       __global const SetupTriangle* overflow, __global const uint* clipped_offsets,
+                       __global const uint* pair_offsets, uint pair_base, uint tiles_x, __global uint* tile_keys,
+                       __global uint* triangle_ids) {
+  if (get_global_id(0) >= primitive_count) return;
+  const uint i = primitive_begin + get_global_id(0);
+  if (pair_offsets[i] == pair_offsets[i + 1]) return; /* culled, or nothing left after clipping */
+  uint out = pair_offsets[i] - pair_base;
+  if (clipped_offsets[i] == clipped_offsets[i + 1]) {
+    emit_tiles(&records[i], i, tiles_x, out, tile_keys, triangle_ids);
+  } else {
+    for (uint t = clipped_offsets[i]; t < clipped_offsets[i + 1]; ++t) {
+      out = emit_tiles(&overflow[t], CLR_OVERFLOW_TRIANGLE | t, tiles_x, out, tile_keys, triangle_ids);
     }
   }
 }

@@ -9,9 +9,10 @@ namespace clraster::stages {
 
 int BinStage::run(cl_host::Queue& queue, const BinParams& p) {
   queue.set_stage(cl_host::Stage::Binning);
-  cl_host::set_args(emit_, cl_uint{p.triangle_begin}, cl_uint{p.triangle_count}, p.triangles, p.pair_offsets,
-                    cl_uint{p.pair_base}, cl_uint{p.tiles_x}, p.tile_keys[0], p.triangle_ids[0]);
-  cl_host::enqueue_items(queue, emit_, p.triangle_count, CLR_ITEM_GROUP_SIZE);
+  cl_host::set_args(emit_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.records, p.overflow,
+                    p.clipped_offsets, p.pair_offsets, cl_uint{p.pair_base}, cl_uint{p.tiles_x}, p.tile_keys[0],
+                    p.triangle_ids[0]);
+  cl_host::enqueue_items(queue, emit_, p.primitive_count, CLR_ITEM_GROUP_SIZE);
 
   // Only the bits a tile index can have are sorted.
   const int key_bits = std::bit_width(p.tile_count - 1);

@@ -1,5 +1,6 @@
 // Binning (kernels in bin.cl, sorting in parallel/radix_sort.cl): the (tile, triangle) pairs of a
-// batch of set-up triangles, sorted by tile with primitive order kept, and each tile's run of them.
+// batch of primitives' set-up triangles, sorted by tile with primitive order kept, and each tile's
+// run of them.
 #pragma once
 
 #include "parallel/radix_sort.hpp"
@@ -9,11 +10,13 @@
 namespace clraster::stages {
 
 struct BinParams {
-  cl::Buffer triangles;            // SetupTriangle records of the chunk
-  cl::Buffer pair_offsets;         // exclusive scan of the set-up stage's pair counts
-  std::uint32_t triangle_begin = 0;
-  std::uint32_t triangle_count = 0;
-  std::uint32_t pair_base = 0;     // pair offset of triangle_begin
+  cl::Buffer records;              // the chunk's per-primitive SetupTriangles
+  cl::Buffer overflow;             // and those of its clipped primitives
+  cl::Buffer clipped_offsets;      // where each primitive's clipped triangles are in overflow
+  cl::Buffer pair_offsets;         // exclusive scan of the per-primitive pair counts
+  std::uint32_t primitive_begin = 0;  // the batch: primitives of the chunk
+  std::uint32_t primitive_count = 0;
+  std::uint32_t pair_base = 0;     // pair offset of primitive_begin
   std::uint32_t pair_count = 0;    // pairs of the batch
   std::uint32_t tiles_x = 0;
   std::uint32_t tile_count = 0;

@@ -93,7 +93,8 @@ inline void rasterize_pixel(const __local SetupTriangle* t, int x, int y, __cons
 }
 
 __kernel __attribute__((reqd_work_group_size(CLR_TILE_SIZE, CLR_TILE_SIZE, 1)))
-void raster_tiles(__global const SetupTriangle* triangles, __global const uint* sorted_triangles,
+void raster_tiles(__global const SetupTriangle* records, __global const SetupTriangle* overflow,
+                  __global const uint* sorted_triangles,
                   __global const uint* tile_ranges, uint tiles_x, __global uint* color, __global float* depth,
                   uint framebuffer_width, __constant const DrawUniforms* u) {
   __local SetupTriangle batch[CLR_RASTER_TRIANGLE_BATCH];
@@ -113,7 +114,10 @@ void raster_tiles(__global const SetupTriangle* triangles, __global const uint* 
   for (uint base = begin; base < end; base += CLR_RASTER_TRIANGLE_BATCH) {
     const uint n = min((uint)CLR_RASTER_TRIANGLE_BATCH, end - base);
     barrier(CLK_LOCAL_MEM_FENCE); /* everyone is done with the previous batch */
-    for (uint i = lid; i < n; i += CLR_TILE_SIZE * CLR_TILE_SIZE) batch[i] = triangles[sorted_triangles[base + i]];
+    for (uint i = lid; i < n; i += CLR_TILE_SIZE * CLR_TILE_SIZE) {
+      const uint id = sorted_triangles[base + i];
+      batch[i] = (id & CLR_OVERFLOW_TRIANGLE) ? overflow[id & ~CLR_OVERFLOW_TRIANGLE] : records[id];
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint i = 0; i < n; ++i) {
       if (writable) rasterize_pixel(&batch[i], x, y, u, &pixel_color, &pixel_depth);

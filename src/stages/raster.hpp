@@ -11,7 +11,8 @@
 namespace clraster::stages {
 
 struct RasterParams {
-  cl::Buffer triangles;      // SetupTriangle records
+  cl::Buffer records;        // SetupTriangles: per primitive ...
+  cl::Buffer overflow;       // ... and of clipped primitives
   cl::Buffer sorted_ids;     // triangle ids, grouped by tile, in primitive order
   cl::Buffer tile_ranges;
   std::uint32_t tiles_x = 0;

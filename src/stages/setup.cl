@@ -1,11 +1,15 @@
-/* setup.cl: triangle set-up. For each primitive, the triangles primitive_count counted are written
- * at the primitive's offset (so set-up triangles stay in primitive order) with their exact edge
- * functions, interpolation data and the tiles their bounding box touches, whose number is what the
- * binning stage needs to place them. */
+/* setup.cl: triangle set-up, one pass over a chunk's primitives.
+ *
+ * Almost every primitive is a triangle inside all clip planes: triangle_setup projects, snaps and
+ * culls it and writes it straight into the primitive's own record, with the number of tiles its
+ * bounding box touches (0 when culled). A primitive that crosses a plane (rare) keeps no record there:
+ * it only counts the triangles clipping leaves of it; after a scan of those counts, clipped_setup
+ * writes them into the overflow records and sums their tiles into the primitive's pair count. The
+ * pair counts stay per primitive either way, so the bin pairs come out in primitive order. */
 
-inline void write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
-                                 uint primitive_id, __constant const DrawUniforms* u,
-                                 __global SetupTriangle* out, __global uint* pair_count) {
+/* Writes a surviving triangle's record; returns the number of tiles its bounding box touches. */
+inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
+                                 uint primitive_id, __constant const DrawUniforms* u, __global SetupTriangle* out) {
   long area = double_area(v0->fixed, v1->fixed, v2->fixed);
   const bool front = (area > 0) == (u->front_face_ccw != 0);
   /* Rasterization wants counter-clockwise vertices: swap the last two of a clockwise triangle. */
@@ -38,23 +42,57 @@ inline void write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1,
   *out = t;
   const int2 tile_lo = lo / CLR_TILE_SIZE;
   const int2 tile_hi = hi / CLR_TILE_SIZE;
-  *pair_count = (uint)((tile_hi.x - tile_lo.x + 1) * (tile_hi.y - tile_lo.y + 1));
+  return (uint)((tile_hi.x - tile_lo.x + 1) * (tile_hi.y - tile_lo.y + 1));
 }
 
 __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap slots,
                              __global const uchar* indices, __global const float4* shaded,
-                             __constant const DrawUniforms* u, __global const uint* triangle_offsets,
-                             __global SetupTriangle* triangles, __global uint* pair_counts) {
+                             __constant const DrawUniforms* u, __global SetupTriangle* records,
+                             __global uint* pair_counts, __global uint* clipped_counts, __global uint* counters) {
   const uint i = get_global_id(0);
   if (i >= primitive_count) return;
-  WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
-  const int n = primitive_window_polygon(primitive_begin + i, &slots, indices, shaded, u, polygon);
-  uint out = triangle_offsets[i];
-  for (int k = 1; k + 1 < n; ++k) {
-    if (triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u)) {
-      write_setup_triangle(&polygon[0], &polygon[k], &polygon[k + 1], primitive_begin + i, u, &triangles[out],
-                           &pair_counts[out]);
-      ++out;
+  uint pairs = 0;
+  uint clipped = 0;
+  ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
+  if (!assemble_primitive(primitive_begin + i, &slots, indices, shaded, u, triangle)) {
+    atomic_inc(&counters[CLR_COUNTER_DROPPED]);
+  } else {
+    const uint planes = triangle_clip_planes(triangle, vload2(0, u->guard_min), vload2(0, u->guard_max));
+    WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
+    if (planes == 0) {
+      if (project_vertex(&triangle[0], u, &polygon[0]) && project_vertex(&triangle[1], u, &polygon[1]) &&
+          project_vertex(&triangle[2], u, &polygon[2]) &&
+          triangle_survives(&polygon[0], &polygon[1], &polygon[2], u)) {
+        pairs = write_setup_triangle(&polygon[0], &polygon[1], &polygon[2], primitive_begin + i, u, &records[i]);
+      }
+    } else if (planes != CLR_CLIP_REJECTED) {
+      const int n = clipped_window_polygon(triangle, planes, u, polygon);
+      for (int k = 1; k + 1 < n; ++k) clipped += triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u);
     }
   }
+  pair_counts[i] = pairs;
+  clipped_counts[i] = clipped;
+}
+
+/* For the primitives triangle_setup counted clipped triangles for: the same clipping again, writing
+ * them at the primitive's overflow offset. */
+__kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap slots, __global const uchar* indices,
+                            __global const float4* shaded, __constant const DrawUniforms* u,
+                            __global const uint* clipped_offsets, __global SetupTriangle* overflow,
+                            __global uint* pair_counts) {
+  const uint i = get_global_id(0);
+  if (i >= primitive_count || clipped_offsets[i] == clipped_offsets[i + 1]) return;
+  ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
+  assemble_primitive(primitive_begin + i, &slots, indices, shaded, u, triangle);
+  const uint planes = triangle_clip_planes(triangle, vload2(0, u->guard_min), vload2(0, u->guard_max));
+  WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
+  const int n = clipped_window_polygon(triangle, planes, u, polygon);
+  uint out = clipped_offsets[i];
+  uint pairs = 0;
+  for (int k = 1; k + 1 < n; ++k) {
+    if (triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u)) {
+      pairs += write_setup_triangle(&polygon[0], &polygon[k], &polygon[k + 1], primitive_begin + i, u, &overflow[out++]);
+    }
+  }
+  pair_counts[i] = pairs;
 }

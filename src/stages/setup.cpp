@@ -7,9 +7,16 @@ namespace clraster::stages {
 
 void SetupStage::run(cl_host::Queue& queue, const SetupParams& p) {
   queue.set_stage(cl_host::Stage::Setup);
-  cl_host::set_args(kernel_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.slots, p.draw->indices,
-                    p.shaded, p.draw->uniforms, p.triangle_offsets, p.triangles, p.pair_counts);
-  cl_host::enqueue_items(queue, kernel_, p.primitive_count, CLR_ITEM_GROUP_SIZE);
+  cl_host::set_args(setup_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.slots, p.draw->indices,
+                    p.shaded, p.draw->uniforms, p.records, p.pair_counts, p.clipped_counts, p.draw->counters);
+  cl_host::enqueue_items(queue, setup_, p.primitive_count, CLR_ITEM_GROUP_SIZE);
+}
+
+void SetupStage::run_clipped(cl_host::Queue& queue, const ClippedSetupParams& p) {
+  queue.set_stage(cl_host::Stage::Setup);
+  cl_host::set_args(clipped_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.slots, p.draw->indices,
+                    p.shaded, p.draw->uniforms, p.clipped_offsets, p.overflow, p.pair_counts);
+  cl_host::enqueue_items(queue, clipped_, p.primitive_count, CLR_ITEM_GROUP_SIZE);
 }
 
 }  // namespace clraster::stages

@@ -94,6 +94,10 @@ typedef struct {
  * `flags` is set (a left or bottom edge, the rule llvmpipe applies). */
 #define CLR_TRIANGLE_FRONT_FACING (1u << 3)
 
+/* Bin pair triangle ids with this bit set index the overflow records of clipped primitives; the
+ * others index the chunk's per-primitive records (see setup.cl). */
+#define CLR_OVERFLOW_TRIANGLE 0x80000000u
+
 typedef struct {
   clr_long edge_c[3];
   clr_int edge_a[3];
