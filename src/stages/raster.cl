@@ -1,10 +1,10 @@
 /* raster.cl: rasterization, depth test, perspective-correct interpolation, shading and blending.
  *
- * One work-group per screen tile of CLR_TILE_SIZE^2 pixels, one work-item per pixel. The group walks
- * its tile's triangles in primitive order, staging CLR_RASTER_TRIANGLE_BATCH of them at a time in
- * local memory; each work-item tests its own pixel against each, so a pixel has exactly one owner
- * and its colour and depth stay in the work-item's registers from the first triangle to the last:
- * no atomics, no races, and the same result on every run. */
+ * One work-group per screen tile of CLR_TILE_SIZE^2 pixels, one work-item per pixel. The tile's
+ * colour and depth live in local memory from the first triangle to the last, and the group walks its
+ * tile's triangles in primitive order, staging CLR_RASTER_TRIANGLE_BATCH of them at a time in local
+ * memory too. Each work-item tests only its own pixel and is the only one to touch that pixel's
+ * colour and depth, so there are no atomics and no races, and every run gives the same result. */
 
 inline bool triangle_covers(const __local SetupTriangle* t, int x, int y, long* e) {
   /* The bounding box rejects most pixels of a tile with a few 32-bit comparisons. */
@@ -72,7 +72,7 @@ inline uint blend(int mode, uint source, uint destination) {
 }
 
 inline void rasterize_pixel(const __local SetupTriangle* t, int x, int y, __constant const DrawUniforms* u,
-                            uint* color, float* depth) {
+                            __local uint* color, __local float* depth) {
   long e[3];
   if (!triangle_covers(t, x, y, e)) return;
   const float3 l = (float3)((float)e[0], (float)e[1], (float)e[2]) * t->inv_double_area;
@@ -98,6 +98,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
                   __global const uint* tile_ranges, uint tiles_x, __global uint* color, __global float* depth,
                   uint framebuffer_width, __constant const DrawUniforms* u) {
   __local SetupTriangle batch[CLR_RASTER_TRIANGLE_BATCH];
+  __local uint tile_color[CLR_TILE_SIZE * CLR_TILE_SIZE];
+  __local float tile_depth[CLR_TILE_SIZE * CLR_TILE_SIZE];
   const uint tile = get_group_id(1) * tiles_x + get_group_id(0);
   const uint begin = tile_ranges[2 * tile];
   const uint end = tile_ranges[2 * tile + 1];
@@ -107,9 +109,9 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   const int y = get_global_id(1);
   const bool writable = x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3];
   const uint pixel = (uint)y * framebuffer_width + (uint)x;
-  uint pixel_color = writable ? color[pixel] : 0u;
-  float pixel_depth = writable ? depth[pixel] : 0.0f;
   const uint lid = get_local_id(1) * CLR_TILE_SIZE + get_local_id(0);
+  tile_color[lid] = writable ? color[pixel] : 0u;
+  tile_depth[lid] = writable ? depth[pixel] : 0.0f;
 
   for (uint base = begin; base < end; base += CLR_RASTER_TRIANGLE_BATCH) {
     const uint n = min((uint)CLR_RASTER_TRIANGLE_BATCH, end - base);
@@ -119,13 +121,12 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       batch[i] = (id & CLR_OVERFLOW_TRIANGLE) ? overflow[id & ~CLR_OVERFLOW_TRIANGLE] : records[id];
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint i = 0; i < n; ++i) {
-      if (writable) rasterize_pixel(&batch[i], x, y, u, &pixel_color, &pixel_depth);
-      barrier(CLK_LOCAL_MEM_FENCE);
+    if (writable) {
+      for (uint i = 0; i < n; ++i) rasterize_pixel(&batch[i], x, y, u, &tile_color[lid], &tile_depth[lid]);
     }
   }
   if (writable) {
-    color[pixel] = pixel_color;
-    depth[pixel] = pixel_depth;
+    color[pixel] = tile_color[lid];
+    depth[pixel] = tile_depth[lid];
   }
 }
