@@ -29,6 +29,16 @@ Rgba pixel(const Image& image, int x, int row) {
 // Pixel (x, window y) of an image read top row first.
 Rgba at_window(const Image& image, int x, int y) { return pixel(image, x, image.height - 1 - y); }
 
+// Exactly the pixels of `rect` (window coordinates) have a non-zero red channel.
+void expect_covers_exactly(const Image& image, const clraster::Rect& rect) {
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const bool inside = x >= rect.x && x < rect.x + rect.width && y >= rect.y && y < rect.y + rect.height;
+      ASSERT_EQ(at_window(image, x, y)[0] != 0, inside) << "window pixel " << x << ", " << y;
+    }
+  }
+}
+
 int covered_pixels(const Image& image) {
   int covered = 0;
   for (std::size_t i = 0; i < image.rgba.size(); i += 4) covered += image.rgba[i] != 0;
@@ -184,13 +194,7 @@ TEST(GlOracle, ScissorLimitsWrites) {
   state.scissor_test = true;
   state.scissor = {10, 20, 30, 40};  // window x in [10, 40), y in [20, 60)
   gl.draw(full_screen_quad(), 0, kAllElements, state);
-  const Image image = gl.read_color();
-  for (int y = 0; y < 64; ++y) {
-    for (int x = 0; x < 64; ++x) {
-      const bool inside = x >= 10 && x < 40 && y >= 20 && y < 60;
-      ASSERT_EQ(at_window(image, x, y)[0] != 0, inside) << "window pixel " << x << ", " << y;
-    }
-  }
+  expect_covers_exactly(gl.read_color(), {10, 20, 30, 40});
 }
 
 TEST(GlOracle, ViewportMapsNdcToItsRectangle) {
@@ -199,13 +203,7 @@ TEST(GlOracle, ViewportMapsNdcToItsRectangle) {
   DrawState state = constant({1, 1, 1, 1});
   state.viewport = {8, 4, 16, 32};
   gl.draw(full_screen_quad(), 0, kAllElements, state);
-  const Image image = gl.read_color();
-  for (int y = 0; y < 48; ++y) {
-    for (int x = 0; x < 64; ++x) {
-      const bool inside = x >= 8 && x < 24 && y >= 4 && y < 36;
-      ASSERT_EQ(at_window(image, x, y)[0] != 0, inside) << "window pixel " << x << ", " << y;
-    }
-  }
+  expect_covers_exactly(gl.read_color(), {8, 4, 16, 32});
 }
 
 TEST(GlOracle, CullingFollowsTheWindingAndFrontFace) {
