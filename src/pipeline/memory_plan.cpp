@@ -14,22 +14,14 @@ namespace {
 
 using resources::Scratch;
 
-constexpr std::size_t kShadedVertexBytes = CLR_SHADED_VERTEX_FLOAT4S * 4 * sizeof(float);
-
 std::size_t& at(resources::ScratchSizes& sizes, Scratch id) { return sizes[static_cast<std::size_t>(id)]; }
-
-std::uint64_t stream_slots(int topology, std::uint64_t primitives) {
-  // Lists use three positions per primitive; strips and fans one more than the primitives, and fans
-  // one slot for the centre.
-  if (topology == CLR_TOPOLOGY_LIST) return 3 * primitives;
-  return primitives + 2;
-}
 
 resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::uint64_t chunk, std::uint64_t overflow,
                                      std::uint64_t pairs) {
   resources::ScratchSizes b{};
   at(b, Scratch::ShadedVertices) =
-      (shade_all ? in.vertex_count : stream_slots(in.topology, chunk)) * kShadedVertexBytes;
+      (shade_all ? in.vertex_count : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count) *
+      kShadedVertexBytes;
   at(b, Scratch::Records) = chunk * sizeof(SetupTriangle);
   at(b, Scratch::OverflowRecords) = overflow * sizeof(SetupTriangle);
   // Counts get one more entry, whose exclusive scan is the total.
@@ -53,9 +45,9 @@ std::size_t total(const resources::ScratchSizes& sizes) {
 
 StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint32_t primitive_count) {
   switch (topology) {
-    case CLR_TOPOLOGY_LIST: return {3 * first_primitive, 3 * primitive_count};
-    case CLR_TOPOLOGY_STRIP: return {first_primitive, primitive_count + 2};
-    default: return {first_primitive + 1, primitive_count + 1};  // the centre gets the extra slot
+    case CLR_TOPOLOGY_LIST: return {3 * first_primitive, 3 * primitive_count, 3 * primitive_count};
+    case CLR_TOPOLOGY_STRIP: return {first_primitive, primitive_count + 2, primitive_count + 2};
+    default: return {first_primitive + 1, primitive_count + 1, primitive_count + 2};
   }
 }
 

@@ -3,11 +3,15 @@
 #pragma once
 
 #include "resources/scratch.hpp"
+#include "stages/types.h"
 
 #include <cstddef>
 #include <cstdint>
 
 namespace clraster::pipeline {
+
+// Bytes of one vertex stage output slot (a clip position and the varyings).
+inline constexpr std::size_t kShadedVertexBytes = CLR_SHADED_VERTEX_FLOAT4S * 4 * sizeof(float);
 
 struct PlanInput {
   std::size_t memory_cap = 0;
@@ -33,10 +37,11 @@ struct MemoryPlan {
 MemoryPlan plan_memory(const PlanInput& input);
 
 // Stream positions (relative to the draw's first element) that primitives [first, first + count)
-// use, for vertex shading per chunk: [begin, begin + count), plus a fan's centre.
+// use, for vertex shading per chunk: [begin, begin + count), plus a fan's centre in one more slot.
 struct StreamRange {
   std::uint32_t begin = 0;
   std::uint32_t count = 0;
+  std::uint32_t slot_count = 0;  // count, + 1 for a fan's centre
 };
 StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint32_t primitive_count);
 

@@ -16,7 +16,6 @@ using resources::Scratch;
 
 namespace {
 
-constexpr std::size_t kShadedVertexBytes = CLR_SHADED_VERTEX_FLOAT4S * 4 * sizeof(float);
 constexpr std::uint32_t kSaturated = 0xffffffffu;  // what a scan whose total overflows returns
 
 std::uint32_t primitives_of(int topology, std::uint64_t elements) {
@@ -26,10 +25,9 @@ std::uint32_t primitives_of(int topology, std::uint64_t elements) {
 
 }  // namespace
 
-Pipeline::Pipeline(cl::Context context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
+Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
                    std::size_t memory_cap)
-    : context_(context),
-      queue_(queue),
+    : queue_(queue),
       tile_size_(tile_size),
       memory_cap_(memory_cap),
       placeholder_(context, CL_MEM_READ_WRITE, 16),
@@ -146,9 +144,8 @@ std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::
     shaded = scratch_.get(Scratch::ShadedVertices, frame.vertex_count * kShadedVertexBytes);
   } else {
     const StreamRange range = stream_range(frame.topology, begin, count);
-    const std::uint32_t slot_count = range.count + (frame.topology == CLR_TOPOLOGY_FAN ? 1 : 0);
-    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{slot_count} * kShadedVertexBytes);
-    vertex_.run(queue_, {frame.buffers, false, range.begin, range.count, slot_count, shaded});
+    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * kShadedVertexBytes);
+    vertex_.run(queue_, {frame.buffers, false, range.begin, range.count, range.slot_count, shaded});
     slots = {0, range.begin, range.count};
   }
 

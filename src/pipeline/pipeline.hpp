@@ -50,7 +50,7 @@ struct DrawSource {
 
 class Pipeline {
  public:
-  Pipeline(cl::Context context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
+  Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
            std::size_t memory_cap);
 
   DrawStats draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
@@ -90,7 +90,6 @@ class Pipeline {
   // offsets[index] of an exclusive scan of `count` values whose total is known (read only when needed).
   std::uint32_t read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
 
-  cl::Context context_;
   cl_host::Queue& queue_;
   int tile_size_;
   std::size_t memory_cap_;

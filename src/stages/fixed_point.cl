@@ -44,18 +44,24 @@ inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* 
   *hi = min(fixed_max >> CLR_SUBPIXEL_BITS, (int2)(u->clip_rect[2] - 1, u->clip_rect[3] - 1));
 }
 
+/* What culling measured of a snapped triangle; set-up reuses it. */
+typedef struct {
+  long double_area;     /* signed, see double_area */
+  int2 pixel_min;       /* writable pixels of the bounding box, see pixel_bounds */
+  int2 pixel_max;
+} TriangleExtent;
+
 /* Face culling and emptiness: a triangle survives when it has non-zero snapped area, is not culled
  * by its facing, and its bounding box contains a writable pixel centre. Small triangles are never
  * dropped for being small: any with non-zero area may cover a centre. */
 inline bool triangle_survives(const WindowVertex* a, const WindowVertex* b, const WindowVertex* c,
-                              __constant const DrawUniforms* u) {
-  const long area = double_area(a->fixed, b->fixed, c->fixed);
-  if (area == 0) return false;
-  const bool front = (area > 0) == (u->front_face_ccw != 0);
+                              __constant const DrawUniforms* u, TriangleExtent* extent) {
+  extent->double_area = double_area(a->fixed, b->fixed, c->fixed);
+  if (extent->double_area == 0) return false;
+  const bool front = (extent->double_area > 0) == (u->front_face_ccw != 0);
   if ((u->cull == CLR_CULL_BACK && !front) || (u->cull == CLR_CULL_FRONT && front)) return false;
-  int2 lo, hi;
-  pixel_bounds(a->fixed, b->fixed, c->fixed, u, &lo, &hi);
-  return lo.x <= hi.x && lo.y <= hi.y;
+  pixel_bounds(a->fixed, b->fixed, c->fixed, u, &extent->pixel_min, &extent->pixel_max);
+  return extent->pixel_min.x <= extent->pixel_max.x && extent->pixel_min.y <= extent->pixel_max.y;
 }
 
 /* Whether a pixel centre exactly on the edge from a to b (counter-clockwise triangle, y up) belongs

@@ -7,10 +7,12 @@
  * writes them into the overflow records and sums their tiles into the primitive's pair count. The
  * pair counts stay per primitive either way, so the bin pairs come out in primitive order. */
 
-/* Writes a surviving triangle's record; returns the number of tiles its bounding box touches. */
+/* Writes the record of a triangle that survived culling (which measured `extent`); returns the
+ * number of tiles its bounding box touches. */
 inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
-                                 uint primitive_id, __constant const DrawUniforms* u, __global SetupTriangle* out) {
-  long area = double_area(v0->fixed, v1->fixed, v2->fixed);
+                                 const TriangleExtent* extent, uint primitive_id, __constant const DrawUniforms* u,
+                                 __global SetupTriangle* out) {
+  long area = extent->double_area;
   const bool front = (area > 0) == (u->front_face_ccw != 0);
   /* Rasterization wants counter-clockwise vertices: swap the last two of a clockwise triangle. */
   const WindowVertex* v[3] = {v0, area > 0 ? v1 : v2, area > 0 ? v2 : v1};
@@ -35,8 +37,8 @@ inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1,
   t.inv_double_area = 1.0f / (float)area;
   t.primitive_id = primitive_id;
 
-  int2 lo, hi;
-  pixel_bounds(v0->fixed, v1->fixed, v2->fixed, u, &lo, &hi);
+  const int2 lo = extent->pixel_min;
+  const int2 hi = extent->pixel_max;
   t.pixel_min = (uint)lo.x | (uint)lo.y << 16;
   t.pixel_max = (uint)hi.x | (uint)hi.y << 16;
   *out = t;
@@ -54,6 +56,7 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
   uint pairs = 0;
   uint clipped = 0;
   ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
+  TriangleExtent extent;
   if (!assemble_primitive(primitive_begin + i, &slots, indices, shaded, u, triangle)) {
     atomic_inc(&counters[CLR_COUNTER_DROPPED]);
   } else {
@@ -62,12 +65,13 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
     if (planes == 0) {
       if (project_vertex(&triangle[0], u, &polygon[0]) && project_vertex(&triangle[1], u, &polygon[1]) &&
           project_vertex(&triangle[2], u, &polygon[2]) &&
-          triangle_survives(&polygon[0], &polygon[1], &polygon[2], u)) {
-        pairs = write_setup_triangle(&polygon[0], &polygon[1], &polygon[2], primitive_begin + i, u, &records[i]);
+          triangle_survives(&polygon[0], &polygon[1], &polygon[2], u, &extent)) {
+        pairs = write_setup_triangle(&polygon[0], &polygon[1], &polygon[2], &extent, primitive_begin + i, u,
+                                     &records[i]);
       }
     } else if (planes != CLR_CLIP_REJECTED) {
       const int n = clipped_window_polygon(triangle, planes, u, polygon);
-      for (int k = 1; k + 1 < n; ++k) clipped += triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u);
+      for (int k = 1; k + 1 < n; ++k) clipped += triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent);
     }
   }
   pair_counts[i] = pairs;
@@ -89,9 +93,11 @@ __kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap 
   const int n = clipped_window_polygon(triangle, planes, u, polygon);
   uint out = clipped_offsets[i];
   uint pairs = 0;
+  TriangleExtent extent;
   for (int k = 1; k + 1 < n; ++k) {
-    if (triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u)) {
-      pairs += write_setup_triangle(&polygon[0], &polygon[k], &polygon[k + 1], primitive_begin + i, u, &overflow[out++]);
+    if (triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent)) {
+      pairs += write_setup_triangle(&polygon[0], &polygon[k], &polygon[k + 1], &extent, primitive_begin + i, u,
+                                    &overflow[out++]);
     }
   }
   pair_counts[i] = pairs;
