@@ -25,6 +25,10 @@
 #define CLR_MAX_CLIP_VERTICES (3 + CLR_CLIP_PLANES)
 #define CLR_MAX_CLIP_TRIANGLES (CLR_MAX_CLIP_VERTICES - 2)
 
+/* ---- Textures ------------------------------------------------------------------------------------ */
+#define CLR_MAX_TEXTURE_SIZE 16384 /* texels per side */
+#define CLR_MAX_TEXTURE_LEVELS 15  /* a full mip chain of CLR_MAX_TEXTURE_SIZE */
+
 /* ---- Varyings of the built-in program ---------------------------------------------------------- */
 #define CLR_NUM_VARYINGS 3
 

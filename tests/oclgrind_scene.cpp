@@ -29,7 +29,7 @@ int main() {
     // The same vertices as a strip and a fan, without indices, blended additively under a scissor.
     clraster::DrawCall strip{&vertices};
     strip.state.topology = clraster::Topology::TriangleStrip;
-    strip.state.blend = clraster::BlendMode::Additive;
+    strip.state.blend[0] = clraster::kAdditiveBlend;
     strip.state.depth_func = clraster::CompareFunc::LessEqual;
     strip.state.scissor_test = true;
     strip.state.scissor = {3, 2, 25, 15};

@@ -65,7 +65,7 @@ DrawState constant(std::array<float, 4> colour) {
 // Constant 1/255 added up without depth test: red counts the fragments each pixel received.
 DrawState overdraw_counter() {
   DrawState state = constant({1.0f / 255, 0, 0, 0});
-  state.blend = clraster::BlendMode::Additive;
+  state.blend[0] = clraster::kAdditiveBlend;
   state.depth_test = false;
   return state;
 }

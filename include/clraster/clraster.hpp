@@ -126,9 +126,34 @@ class Context {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Resources.
+// Buffers.
 
-// Vertex positions and (optionally) normals, three floats each, uploaded to the device.
+// Raw bytes on the device: vertex attributes, and user buffers that programs read or write.
+class Buffer {
+ public:
+  Buffer(Context& context, std::size_t bytes);                       // zero-filled
+  Buffer(Context& context, std::span<const std::byte> data);
+  template <typename T>
+  Buffer(Context& context, std::span<const T> data) : Buffer(context, std::as_bytes(data)) {}
+  template <typename T>
+  Buffer(Context& context, const std::vector<T>& data) : Buffer(context, std::span<const T>(data)) {}
+  ~Buffer();
+  Buffer(Buffer&&) noexcept;
+  Buffer& operator=(Buffer&&) noexcept;
+
+  std::size_t size_bytes() const;
+  void write(std::size_t offset, std::span<const std::byte> data);
+  std::vector<std::byte> read() const;
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Vertex positions and (optionally) normals, three floats each: the attributes "position" and
+// "normal" (float3) that the built-in programs read, and that user programs may declare too.
 class VertexBuffer {
  public:
   // positions: x, y, z per vertex. normals: empty (all normals are zero) or one x, y, z per vertex.
@@ -146,8 +171,8 @@ class VertexBuffer {
   std::unique_ptr<Impl> impl_;
 };
 
-// 16- or 32-bit vertex indices. Indices are checked against the vertex buffer when drawing: a draw
-// that references a vertex that does not exist throws InvalidArgument before anything is rendered.
+// 16- or 32-bit vertex indices. Indices are checked against the vertex attributes when drawing: a
+// draw that references a vertex that does not exist throws InvalidArgument before anything is rendered.
 class IndexBuffer {
  public:
   IndexBuffer(Context& context, std::span<const std::uint32_t> indices);
@@ -166,12 +191,203 @@ class IndexBuffer {
   std::unique_ptr<Impl> impl_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Textures: 2D images with a mipmap chain, sampled in software by programs and rendered into as
+// framebuffer attachments. Texel row 0 is t = 0 (the bottom of a rendered image, the first row of
+// uploaded data), as in OpenGL.
+
+enum class Format {
+  R8, RG8, RGBA8,          // unsigned normalized: sampled and rendered as floats in [0, 1]
+  SRGB8_A8,                // RGBA8 whose colour channels are sRGB-encoded (decoded when sampled, encoded when written)
+  R32F, RG32F, RGBA16F, RGBA32F,
+  R32I, R32UI, RGBA32I, RGBA32UI,  // integer: rendered as int4/uint4 outputs, read with texel fetches
+  Depth32F,                // depth attachment; sampled as a float in .x
+  Depth32FStencil8,        // depth and 8-bit stencil attachment; sampled as its depth
+};
+
+struct FormatInfo {
+  int bytes_per_texel;   // of one plane; Depth32FStencil8 adds one stencil byte per texel in a second plane
+  int channels;
+  bool integer;          // R32I .. RGBA32UI
+  bool is_signed;        // R32I, RGBA32I
+  bool depth;
+  bool stencil;
+  const char* name;      // "RGBA8", ...
+};
+const FormatInfo& format_info(Format format);
+
+enum class Filter { Nearest, Linear };
+enum class MipFilter { None, Nearest, Linear };  // None: level 0 only
+enum class Wrap { Repeat, ClampToEdge, MirroredRepeat };
+
+// How a program samples a texture (OpenGL's sampler object state).
+struct Sampler {
+  Filter mag_filter = Filter::Linear;
+  Filter min_filter = Filter::Linear;
+  MipFilter mip_filter = MipFilter::Linear;  // GL_LINEAR_MIPMAP_LINEAR with the defaults: trilinear
+  Wrap wrap_s = Wrap::Repeat;
+  Wrap wrap_t = Wrap::Repeat;
+  float lod_bias = 0.0f;
+  float min_lod = -1000.0f;
+  float max_lod = 1000.0f;
+};
+
+inline constexpr int kMaxTextureSize = 16384;
+inline constexpr int kFullMipChain = 0;
+
+class Texture {
+ public:
+  // Uninitialized (zero) texture. levels: 1..full chain, or kFullMipChain for down to 1x1.
+  Texture(Context& context, int width, int height, Format format, int levels = 1);
+  // Texture holding `level0` (rows of width texels, first row t = 0, tightly packed in the format's
+  // layout), with its mipmaps generated when `mipmaps`.
+  Texture(Context& context, int width, int height, Format format, std::span<const std::byte> level0,
+          bool mipmaps = true);
+  // A PNG or JPEG file (anything stb_image reads), as RGBA8 or SRGB8_A8, with mipmaps. The file's
+  // first row becomes t = 0 unless flip_vertically (then its last row does, as OpenGL apps often want).
+  static Texture load(Context& context, const std::string& path, bool srgb = true, bool flip_vertically = false);
+  // The same from an encoded file in memory (e.g. embedded in a glTF binary).
+  static Texture decode(Context& context, std::span<const std::byte> encoded, bool srgb = true,
+                        bool flip_vertically = false, const std::string& name = "image");
+  ~Texture();
+  Texture(Texture&&) noexcept;
+  Texture& operator=(Texture&&) noexcept;
+
+  int width(int level = 0) const;
+  int height(int level = 0) const;
+  int levels() const;
+  Format format() const;
+
+  // Replaces a level's texels (tightly packed, rows from t = 0).
+  void upload(int level, std::span<const std::byte> texels);
+  // Recomputes levels 1.. from level 0 (a 2x2 box filter, in linear space for sRGB), e.g. after
+  // rendering into level 0.
+  void generate_mipmaps();
+  // A level's texels, tightly packed, rows from t = 0 (for Depth32FStencil8: the depth plane).
+  std::vector<std::byte> read(int level = 0) const;
+  std::vector<std::uint8_t> read_stencil() const;  // Depth32FStencil8 only, rows from t = 0
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
 // An RGBA8 picture in memory, rows from top to bottom, 4 bytes per pixel.
 struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgba;
 };
+
+// ---------------------------------------------------------------------------------------------
+// Programs: vertex and fragment programs written in OpenCL C, compiled at run time into the
+// pipeline's kernels. docs/programs.md describes the language; in short, a program declares its
+// interface at file scope and defines `void vertex(clr_vertex* v)` and `void fragment(clr_fragment* f)`:
+//
+//   clr_attribute(float3, position)
+//   clr_attribute(float2, uv)
+//   clr_varying(float2, uv)
+//   clr_uniform(float16, mvp)
+//   clr_texture(albedo)
+//   clr_output(float4, color)
+//
+//   void vertex(clr_vertex* v) {
+//     v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f));
+//     v->out.uv = v->in.uv;
+//   }
+//   void fragment(clr_fragment* f) { f->out.color = clr_sample(f, f->textures.albedo, f->in.uv); }
+
+// One declaration of a program's interface, in declaration order.
+struct ProgramVariable {
+  std::string name;
+  std::string type;          // OpenCL C type as written: "float3", "uint", "float16", ...
+  int array_size = 0;        // uniforms only: 0 for a single value, else the number of elements
+  int line = 0;              // in the program's source
+  std::size_t offset = 0;    // uniforms: byte offset in the uniform block
+  std::size_t bytes = 0;     // uniforms: size in bytes (with the array)
+  std::string interpolation; // varyings: "smooth", "flat" or "noperspective"
+  bool writable = false;     // buffers: declared without const
+};
+
+struct ProgramInterface {
+  std::vector<ProgramVariable> attributes;
+  std::vector<ProgramVariable> varyings;
+  std::vector<ProgramVariable> uniforms;
+  std::vector<ProgramVariable> textures;
+  std::vector<ProgramVariable> buffers;
+  std::vector<ProgramVariable> outputs;  // output k goes to colour attachment k
+  std::size_t uniform_bytes = 0;
+  bool has_depth_test = false;           // defines bool depth_test(...)
+  bool has_blend = false;                // defines float4 blend(...)
+  bool uses_derivatives = false;         // shaded in 2x2 quads
+};
+
+class Program {
+ public:
+  // Compiles `source`; `file_name` is what errors call it. Throws BuildError whose what() carries the
+  // compiler's messages as "file_name:LINE:COLUMN: error: ..." lines, or InvalidArgument for a
+  // malformed interface declaration.
+  Program(Context& context, std::string source, std::string file_name = "program.cl");
+  static Program load(Context& context, const std::string& path);
+  ~Program();
+  Program(Program&&) noexcept;
+  Program& operator=(Program&&) noexcept;
+
+  const std::string& file_name() const;
+  const ProgramInterface& interface() const;
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Values and resources bound to a program's declared names. Each setter checks the name and the
+// size or kind against the program and throws InvalidArgument naming what is wrong; a draw throws
+// if a declared name was left unbound.
+class Bindings {
+ public:
+  explicit Bindings(const Program& program);
+  ~Bindings();
+  Bindings(const Bindings&);
+  Bindings& operator=(const Bindings&);
+  Bindings(Bindings&&) noexcept;
+  Bindings& operator=(Bindings&&) noexcept;
+
+  // A uniform's bytes, in the declared type's layout (float3 takes 12 bytes and is padded to 16 in
+  // arrays, float16 is a column-major 4x4 matrix). `element` starts at that array element.
+  Bindings& set_bytes(const std::string& name, std::span<const std::byte> bytes, int element = 0);
+  Bindings& set(const std::string& name, float value);
+  Bindings& set(const std::string& name, std::int32_t value);
+  Bindings& set(const std::string& name, std::uint32_t value);
+  template <std::size_t N>
+  Bindings& set(const std::string& name, const std::array<float, N>& value) {
+    return set_bytes(name, std::as_bytes(std::span<const float>(value)));
+  }
+  template <std::size_t N>
+  Bindings& set(const std::string& name, const std::array<std::int32_t, N>& value) {
+    return set_bytes(name, std::as_bytes(std::span<const std::int32_t>(value)));
+  }
+  Bindings& set(const std::string& name, const std::vector<float>& values) {
+    return set_bytes(name, std::as_bytes(std::span<const float>(values)));
+  }
+  Bindings& set_texture(const std::string& name, const Texture& texture, const Sampler& sampler = {});
+  Bindings& set_buffer(const std::string& name, const Buffer& buffer);
+
+  const Program& program() const;
+
+  struct Impl;
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Draw state.
 
 // Column-major 4x4 matrix, as OpenGL's glUniformMatrix4fv with transpose = GL_FALSE.
 using Mat4 = std::array<float, 16>;
@@ -188,19 +404,69 @@ struct Rect {
 enum class Topology { TriangleList, TriangleStrip, TriangleFan };
 enum class CullMode { None, Back, Front };
 enum class FrontFace { CounterClockwise, Clockwise };
-enum class CompareFunc { Never, Less, Equal, LessEqual, Greater, NotEqual, GreaterEqual, Always };
-enum class BlendMode {
-  Replace,   // destination = source
-  Additive,  // destination = min(source + destination, 1), per channel (glBlendFunc(GL_ONE, GL_ONE))
+// OpenGL's comparison functions (fragment op stored). Program: the program's depth_test function
+// decides (depth only).
+enum class CompareFunc { Never, Less, Equal, LessEqual, Greater, NotEqual, GreaterEqual, Always, Program };
+enum class StencilOp { Keep, Zero, Replace, Increment, IncrementWrap, Decrement, DecrementWrap, Invert };
+
+struct StencilFace {
+  CompareFunc func = CompareFunc::Always;
+  std::uint8_t reference = 0;
+  std::uint8_t read_mask = 0xff;
+  std::uint8_t write_mask = 0xff;
+  StencilOp stencil_fail = StencilOp::Keep;
+  StencilOp depth_fail = StencilOp::Keep;
+  StencilOp depth_pass = StencilOp::Keep;
 };
 
-// The built-in vertex and fragment program. Every mode transforms positions by
-// projection * model_view and interpolates its varyings perspective-correctly.
+// OpenGL's blend equations. Program: the program's blend function gives the result.
+enum class BlendEquation { Add, Subtract, ReverseSubtract, Min, Max, Program };
+enum class BlendFactor {
+  Zero, One, SrcColor, OneMinusSrcColor, DstColor, OneMinusDstColor, SrcAlpha, OneMinusSrcAlpha,
+  DstAlpha, OneMinusDstAlpha, ConstantColor, OneMinusConstantColor, ConstantAlpha, OneMinusConstantAlpha,
+  SrcAlphaSaturate,
+};
+
+// Blending and write mask of one colour attachment. Blending applies to normalized and float
+// attachments (never to integer ones, as in OpenGL).
+struct BlendState {
+  bool enabled = false;
+  BlendEquation rgb_equation = BlendEquation::Add;
+  BlendEquation alpha_equation = BlendEquation::Add;
+  BlendFactor src_rgb = BlendFactor::One;
+  BlendFactor dst_rgb = BlendFactor::Zero;
+  BlendFactor src_alpha = BlendFactor::One;
+  BlendFactor dst_alpha = BlendFactor::Zero;
+  std::array<bool, 4> write_mask{true, true, true, true};
+};
+// glBlendFunc(GL_ONE, GL_ONE): an additive blend (an overdraw counter with Shading::Constant).
+inline constexpr BlendState kAdditiveBlend{true,
+                                           BlendEquation::Add,
+                                           BlendEquation::Add,
+                                           BlendFactor::One,
+                                           BlendFactor::One,
+                                           BlendFactor::One,
+                                           BlendFactor::One,
+                                           {true, true, true, true}};
+// The program's blend function on every channel.
+inline constexpr BlendState kProgramBlend{true,
+                                          BlendEquation::Program,
+                                          BlendEquation::Program,
+                                          BlendFactor::One,
+                                          BlendFactor::Zero,
+                                          BlendFactor::One,
+                                          BlendFactor::Zero,
+                                          {true, true, true, true}};
+
+inline constexpr int kMaxColorAttachments = 8;
+
+// The built-in programs, used when a draw names no Program. Every mode transforms the attribute
+// "position" by projection * model_view and interpolates its varyings perspective-correctly.
 enum class Shading {
   Normal,    // colour = normalize(object-space normal) * 0.5 + 0.5, alpha 1
   Lambert,   // colour = base_color * (0.1 + 0.9 * |n_eye . z|): a headlight at the camera, two-sided
   Depth,     // grey = 1 - (view distance - near) / (far - near) over depth_shading_range, clamped
-  Constant,  // colour = base_color (with Additive blending and no depth test: an overdraw counter)
+  Constant,  // colour = base_color (with kAdditiveBlend and no depth test: an overdraw counter)
 };
 
 struct DrawState {
@@ -210,11 +476,18 @@ struct DrawState {
   Rect scissor{};
   CullMode cull = CullMode::None;
   FrontFace front_face = FrontFace::CounterClockwise;
+
   bool depth_test = true;
   CompareFunc depth_func = CompareFunc::Less;
   bool depth_write = true;
-  BlendMode blend = BlendMode::Replace;
+  bool stencil_test = false;
+  StencilFace stencil_front{};
+  StencilFace stencil_back{};
 
+  std::array<BlendState, kMaxColorAttachments> blend{};  // per colour attachment
+  std::array<float, 4> blend_color{0, 0, 0, 0};           // GL_CONSTANT_COLOR
+
+  // Inputs of the built-in programs (ignored when the draw has a Program).
   Shading shading = Shading::Normal;
   Mat4 model_view = kIdentity;
   Mat4 projection = kIdentity;
@@ -222,15 +495,38 @@ struct DrawState {
   std::array<float, 2> depth_shading_range{0.1f, 100.0f};  // view distances drawn white and black
 };
 
+enum class AttributeType {
+  Float, Float2, Float3, Float4,
+  Int, Int2, Int3, Int4,
+  UInt, UInt2, UInt3, UInt4,
+};
+
+// Where one attribute a program declares comes from: element i (vertex, or instance when
+// per_instance) is at byte offset + i * stride of the buffer.
+struct VertexAttribute {
+  std::string name;
+  const Buffer* buffer = nullptr;
+  AttributeType type = AttributeType::Float3;
+  std::size_t offset = 0;
+  std::size_t stride = 0;      // 0: tightly packed
+  bool per_instance = false;   // advances once per instance (divisor 1), not per vertex
+};
+
 inline constexpr std::uint32_t kAllElements = 0xffffffffu;
 
-// One draw: which buffers, which part of them, and the state. Plain data, cheap to copy.
+// One draw: which program, buffers and bindings, which part of the buffers, and the state.
 struct DrawCall {
-  const VertexBuffer* vertices = nullptr;
-  const IndexBuffer* indices = nullptr;  // null: non-indexed, vertices taken in order
-  std::uint32_t first = 0;               // first index (or vertex, when non-indexed)
-  std::uint32_t count = kAllElements;    // number of indices (or vertices); kAllElements: to the end
+  const VertexBuffer* vertices = nullptr;  // supplies the attributes "position" and "normal"
+  const IndexBuffer* indices = nullptr;    // null: non-indexed, vertices taken in order
+  std::uint32_t first = 0;                 // first index (or vertex, when non-indexed)
+  // Number of indices (or vertices). kAllElements: to the end of the index buffer, or of the
+  // per-vertex attributes; a non-indexed draw with no per-vertex attribute must give it.
+  std::uint32_t count = kAllElements;
   DrawState state{};
+  const Program* program = nullptr;        // null: the built-in program for state.shading
+  const Bindings* bindings = nullptr;      // the program's uniforms, textures and buffers
+  std::vector<VertexAttribute> attributes; // further attributes (or all of them, without `vertices`)
+  std::uint32_t instance_count = 1;
 };
 
 // Device time spent in each stage of a draw, in milliseconds (zero unless ContextOptions::profile).
@@ -238,12 +534,12 @@ struct StageTimes {
   double vertex_ms = 0;     // vertex program
   double setup_ms = 0;      // assembly, clipping, culling, triangle set-up, and the scans that place them
   double binning_ms = 0;    // bin pairs, radix sort by tile, tile ranges
-  double raster_ms = 0;     // rasterization, depth test, interpolation, shading, blending
+  double raster_ms = 0;     // rasterization, fragment program, depth/stencil tests, blending
   double other_ms = 0;      // index validation, clears and transfers
 };
 
 struct DrawStats {
-  std::uint64_t triangles = 0;            // primitives assembled from the input
+  std::uint64_t triangles = 0;            // primitives assembled from the input (all instances)
   std::uint64_t triangles_dropped = 0;    // of those, dropped for non-finite clip coordinates
   std::uint64_t chunks = 0;               // pieces the draw was split into to stay under the memory cap
   std::uint64_t tile_triangle_pairs = 0;  // (tile, triangle) bin entries rasterized
@@ -251,26 +547,47 @@ struct DrawStats {
   StageTimes stage_times;
 };
 
-// A colour (RGBA8) and a depth (32-bit float) attachment of 1..16384 pixels per side.
+// ---------------------------------------------------------------------------------------------
+// Framebuffers: up to kMaxColorAttachments colour textures and an optional depth (or depth-stencil)
+// texture, all of one size, rendered at their level 0.
+
 class Framebuffer {
  public:
+  // Owns an RGBA8 colour and a Depth32FStencil8 attachment of 1..16384 pixels per side, cleared to
+  // (0, 0, 0, 1), depth 1 and stencil 0.
   Framebuffer(Context& context, int width, int height);
+  // Renders into textures the caller owns (they must outlive the framebuffer). Any colour count
+  // 0..8, formats may differ; depth_stencil may be null (then depth and stencil tests pass and
+  // write nothing).
+  Framebuffer(Context& context, std::vector<Texture*> colors, Texture* depth_stencil);
   ~Framebuffer();
   Framebuffer(Framebuffer&&) noexcept;
   Framebuffer& operator=(Framebuffer&&) noexcept;
 
   int width() const;
   int height() const;
+  int color_count() const;
+  Texture& color(int index = 0);        // the attachment itself (render-to-texture)
+  Texture* depth_stencil();             // null when there is none
 
-  void clear(std::array<float, 4> color, float depth = 1.0f);
-  void clear_color(std::array<float, 4> color);
+  // Clears every colour attachment (normalized and float ones to `color`; integer ones to the
+  // truncated values), depth (clamped to [0, 1]) and stencil.
+  void clear(std::array<float, 4> color, float depth = 1.0f, std::uint8_t stencil = 0);
+  void clear_color(std::array<float, 4> color);                        // every colour attachment
+  void clear_color(int index, std::array<float, 4> color);
+  void clear_color_int(int index, std::array<std::int32_t, 4> value);  // integer attachments
+  void clear_color_uint(int index, std::array<std::uint32_t, 4> value);
   void clear_depth(float depth);
+  void clear_stencil(std::uint8_t stencil);
 
   // Renders one draw call into this framebuffer. Draws are applied in the order they are made.
   DrawStats draw(const DrawCall& call);
 
-  Image read_color() const;              // rows top to bottom
-  std::vector<float> read_depth() const; // rows top to bottom, width * height values
+  // Colour attachment `index` converted to RGBA8 (normalized formats only; missing channels read as
+  // 0, alpha as 1), rows top to bottom.
+  Image read_color(int index = 0) const;
+  std::vector<float> read_depth() const;           // rows top to bottom, width * height values
+  std::vector<std::uint8_t> read_stencil() const;  // rows top to bottom
 
   struct Impl;
   Impl& impl() const { return *impl_; }

@@ -55,7 +55,7 @@ Framebuffer& Framebuffer::operator=(Framebuffer&&) noexcept = default;
 int Framebuffer::width() const { return impl_->target.width; }
 int Framebuffer::height() const { return impl_->target.height; }
 
-void Framebuffer::clear(std::array<float, 4> color, float depth) {
+void Framebuffer::clear(std::array<float, 4> color, float depth, std::uint8_t) {
   clear_color(color);
   clear_depth(depth);
 }
@@ -96,7 +96,7 @@ DrawStats Framebuffer::draw(const DrawCall& call) {
       [&] { return impl_->state->get_pipeline().draw(impl_->target, source, call.first, call.count, call.state); });
 }
 
-Image Framebuffer::read_color() const {
+Image Framebuffer::read_color(int) const {
   Image image;
   image.width = width();
   image.height = height();

@@ -69,7 +69,7 @@ DrawState make_state(const RenderOptions& options, const io::Camera& camera) {
       // Every fragment adds 1/255: the red channel counts the fragments of each pixel.
       state.shading = Shading::Constant;
       state.base_color = {1.0f / 255, 1.0f / 255, 1.0f / 255, 1.0f / 255};
-      state.blend = BlendMode::Additive;
+      state.blend[0] = kAdditiveBlend;
       state.depth_test = false;
       break;
   }
@@ -122,7 +122,9 @@ int render(const RenderOptions& options) {
     const VertexBuffer vertices(context, mesh.positions, mesh.normals);
     const IndexBuffer indices(context, mesh.indices);
     Framebuffer framebuffer(context, options.width, options.height);
-    DrawCall call{&vertices, &indices};
+    DrawCall call;
+    call.vertices = &vertices;
+    call.indices = &indices;
     call.state = state;
     DrawStats draw_stats;
     times = time_frames(options.frames, [&] {

@@ -392,6 +392,7 @@ GLenum gl_compare_func(CompareFunc func) {
     case CompareFunc::NotEqual: return GL_NOTEQUAL;
     case CompareFunc::GreaterEqual: return GL_GEQUAL;
     case CompareFunc::Always: return GL_ALWAYS;
+    case CompareFunc::Program: break;  // no OpenGL equivalent
   }
   throw InvalidArgument("unknown depth function " + std::to_string(static_cast<int>(func)));
 }
@@ -419,8 +420,8 @@ void apply_fixed_function_state(const DrawState& state, int framebuffer_width, i
   glDepthFunc(gl_compare_func(state.depth_func));
   glDepthMask(state.depth_write ? GL_TRUE : GL_FALSE);
 
-  set_enabled(GL_BLEND, state.blend == BlendMode::Additive);
-  if (state.blend == BlendMode::Additive) {
+  set_enabled(GL_BLEND, state.blend[0].enabled);
+  if (state.blend[0].enabled) {
     glBlendFunc(GL_ONE, GL_ONE);
     glBlendEquation(GL_FUNC_ADD);
   }

@@ -108,7 +108,7 @@ DrawUniforms make_uniforms(const DrawState& s, int width, int height) {
   u.depth_test = s.depth_test;
   u.depth_func = static_cast<int>(s.depth_func);  // same order as CLR_COMPARE_*
   u.depth_write = s.depth_write;
-  u.blend = s.blend == BlendMode::Additive ? CLR_BLEND_ADDITIVE : CLR_BLEND_REPLACE;
+  u.blend = s.blend[0].enabled ? CLR_BLEND_ADDITIVE : CLR_BLEND_REPLACE;
   return u;
 }
 

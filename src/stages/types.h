@@ -47,9 +47,114 @@ typedef float clr_float;
 #define CLR_COMPARE_NOTEQUAL 5
 #define CLR_COMPARE_GEQUAL 6
 #define CLR_COMPARE_ALWAYS 7
+#define CLR_COMPARE_PROGRAM 8 /* the program's depth_test function */
 
 #define CLR_BLEND_REPLACE 0
 #define CLR_BLEND_ADDITIVE 1
+
+/* In the order of clraster::Format. */
+#define CLR_FORMAT_R8 0
+#define CLR_FORMAT_RG8 1
+#define CLR_FORMAT_RGBA8 2
+#define CLR_FORMAT_SRGB8_A8 3
+#define CLR_FORMAT_R32F 4
+#define CLR_FORMAT_RG32F 5
+#define CLR_FORMAT_RGBA16F 6
+#define CLR_FORMAT_RGBA32F 7
+#define CLR_FORMAT_R32I 8
+#define CLR_FORMAT_R32UI 9
+#define CLR_FORMAT_RGBA32I 10
+#define CLR_FORMAT_RGBA32UI 11
+#define CLR_FORMAT_DEPTH32F 12
+#define CLR_FORMAT_DEPTH32F_STENCIL8 13
+
+/* In the order of clraster::Filter, MipFilter and Wrap. */
+#define CLR_FILTER_NEAREST 0
+#define CLR_FILTER_LINEAR 1
+#define CLR_MIP_NONE 0
+#define CLR_MIP_NEAREST 1
+#define CLR_MIP_LINEAR 2
+#define CLR_WRAP_REPEAT 0
+#define CLR_WRAP_CLAMP_TO_EDGE 1
+#define CLR_WRAP_MIRRORED_REPEAT 2
+
+/* In the order of clraster::StencilOp. */
+#define CLR_STENCIL_KEEP 0
+#define CLR_STENCIL_ZERO 1
+#define CLR_STENCIL_REPLACE 2
+#define CLR_STENCIL_INCR 3
+#define CLR_STENCIL_INCR_WRAP 4
+#define CLR_STENCIL_DECR 5
+#define CLR_STENCIL_DECR_WRAP 6
+#define CLR_STENCIL_INVERT 7
+
+/* In the order of clraster::BlendEquation and BlendFactor. */
+#define CLR_BLEND_ADD 0
+#define CLR_BLEND_SUBTRACT 1
+#define CLR_BLEND_REVERSE_SUBTRACT 2
+#define CLR_BLEND_MIN 3
+#define CLR_BLEND_MAX 4
+#define CLR_BLEND_PROGRAM 5
+
+#define CLR_FACTOR_ZERO 0
+#define CLR_FACTOR_ONE 1
+#define CLR_FACTOR_SRC_COLOR 2
+#define CLR_FACTOR_ONE_MINUS_SRC_COLOR 3
+#define CLR_FACTOR_DST_COLOR 4
+#define CLR_FACTOR_ONE_MINUS_DST_COLOR 5
+#define CLR_FACTOR_SRC_ALPHA 6
+#define CLR_FACTOR_ONE_MINUS_SRC_ALPHA 7
+#define CLR_FACTOR_DST_ALPHA 8
+#define CLR_FACTOR_ONE_MINUS_DST_ALPHA 9
+#define CLR_FACTOR_CONSTANT_COLOR 10
+#define CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR 11
+#define CLR_FACTOR_CONSTANT_ALPHA 12
+#define CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA 13
+#define CLR_FACTOR_SRC_ALPHA_SATURATE 14
+
+/* ---- Textures ----------------------------------------------------------------------------------
+ * A texture is one device buffer holding every mip level, level after level, each tightly packed
+ * rows from t = 0. A Depth32FStencil8 texture has one level: the depth plane, then a stencil byte per
+ * texel at stencil_offset. The sampler's state travels with the texture's description. */
+typedef struct {
+  clr_uint level_offset[CLR_MAX_TEXTURE_LEVELS]; /* in texels from the start of the buffer */
+  clr_uint stencil_offset;                       /* in bytes (Depth32FStencil8) */
+  clr_int format;
+  clr_int width;                                 /* of level 0; level l is max(1, width >> l) */
+  clr_int height;
+  clr_int levels;
+  clr_int mag_filter;
+  clr_int min_filter;
+  clr_int mip_filter;
+  clr_int wrap_s;
+  clr_int wrap_t;
+  clr_float lod_bias;
+  clr_float min_lod;
+  clr_float max_lod;
+} TextureDesc;
+
+/* ---- Per-fragment operations ---------------------------------------------------------------------- */
+typedef struct {
+  clr_int enabled;
+  clr_int rgb_equation;
+  clr_int alpha_equation;
+  clr_int src_rgb;
+  clr_int dst_rgb;
+  clr_int src_alpha;
+  clr_int dst_alpha;
+  clr_uint write_mask; /* bit c: channel c (r, g, b, a) is written */
+} BlendUniforms;
+
+typedef struct {
+  clr_int func;        /* CLR_COMPARE_* */
+  clr_uint reference;
+  clr_uint read_mask;
+  clr_uint write_mask;
+  clr_int stencil_fail; /* CLR_STENCIL_* */
+  clr_int depth_fail;
+  clr_int depth_pass;
+  clr_int unused;
+} StencilUniforms;
 
 /* ---- Per-draw constants --------------------------------------------------------------------- */
 typedef struct {

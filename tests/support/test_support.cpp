@@ -206,7 +206,7 @@ DrawState overdraw_counter() {
   DrawState state;
   state.shading = Shading::Constant;
   state.base_color = {1.0f / 255, 0, 0, 0};
-  state.blend = BlendMode::Additive;
+  state.blend[0] = kAdditiveBlend;
   state.depth_test = false;
   return state;
 }
