@@ -6,6 +6,7 @@
 #include "cl/queue.hpp"
 #include "clraster/clraster.hpp"
 #include "pipeline/pipeline.hpp"
+#include "stages/types.h"
 
 #include <memory>
 
@@ -43,6 +44,20 @@ struct IndexBuffer::Impl {
   std::size_t count = 0;
   int index_size = 0;
   pipeline::IndexRangeCache range_cache;
+};
+
+struct Texture::Impl {
+  std::shared_ptr<ContextState> state;
+  cl::Buffer data;  // every level, level after level (TextureDesc::level_offset), then the stencil plane
+  Format format = Format::RGBA8;
+  int width = 0;
+  int height = 0;
+  int levels = 1;
+  // What kernels see of this texture when sampled with `sampler` (or rendered into).
+  TextureDesc describe(const Sampler& sampler = {}) const;
+  // Byte offset and size of a level's texels in `data`.
+  std::size_t level_offset_bytes(int level) const;
+  std::size_t level_bytes(int level) const;
 };
 
 struct Framebuffer::Impl {
