@@ -29,8 +29,8 @@
 #define CLR_MAX_TEXTURE_SIZE 16384 /* texels per side */
 #define CLR_MAX_TEXTURE_LEVELS 15  /* a full mip chain of CLR_MAX_TEXTURE_SIZE */
 
-/* ---- Varyings of the built-in program ---------------------------------------------------------- */
-#define CLR_NUM_VARYINGS 3
+/* ---- Framebuffer attachments --------------------------------------------------------------------- */
+#define CLR_MAX_COLOR_ATTACHMENTS 8
 
 /* ---- Work-group sizes -------------------------------------------------------------------------- */
 #define CLR_ITEM_GROUP_SIZE 64    /* one-work-item-per-element kernels (vertices, primitives) */

@@ -340,6 +340,7 @@ class Program {
 
   struct Impl;
   Impl& impl() const { return *impl_; }
+  explicit Program(std::unique_ptr<Impl> impl);  // for the library's built-in program
 
  private:
   std::unique_ptr<Impl> impl_;
@@ -375,9 +376,8 @@ class Bindings {
     return set_bytes(name, std::as_bytes(std::span<const float>(values)));
   }
   Bindings& set_texture(const std::string& name, const Texture& texture, const Sampler& sampler = {});
+  // Bound textures and buffers must outlive the draws that use them.
   Bindings& set_buffer(const std::string& name, const Buffer& buffer);
-
-  const Program& program() const;
 
   struct Impl;
   Impl& impl() const { return *impl_; }

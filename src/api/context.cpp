@@ -43,13 +43,27 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
   }
 }
 
+std::string ContextState::build_options() const {
+  return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size);
+}
+
+const cl::Program& ContextState::core_program() {
+  if (!core_) core_ = programs.get("core", cl_sources::core_program(), build_options());
+  return *core_;
+}
+
 pipeline::Pipeline& ContextState::get_pipeline() {
   if (!pipeline) {
-    const std::string build_options = "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size);
-    const cl::Program program = programs.get("pipeline", cl_sources::pipeline_program(), build_options);
-    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, program, options.tile_size, options.memory_cap);
+    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.tile_size, options.memory_cap);
   }
   return *pipeline;
+}
+
+const Program& ContextState::builtin_program() {
+  if (!builtin) {
+    builtin = std::make_unique<Program>(compile_program(shared_from_this(), cl_sources::text("program/builtin.cl"), "<builtin>"));
+  }
+  return *builtin;
 }
 
 Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()) {

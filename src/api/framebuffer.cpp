@@ -1,9 +1,9 @@
 #include "api/errors.hpp"
 #include "api/impl.hpp"
+#include "cl/launch.hpp"
 #include "clr_limits.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -11,116 +11,199 @@
 namespace clraster {
 namespace {
 
-std::uint8_t to_unorm8(float value) {
-  if (!(value > 0.0f)) return 0;  // also NaN
-  return static_cast<std::uint8_t>(std::min(value, 1.0f) * 255.0f + 0.5f);
-}
-
-void check_same_context(const Framebuffer::Impl& target, const std::shared_ptr<ContextState>& state, const char* what) {
-  if (target.state != state) throw InvalidArgument(std::string(what) + " belongs to another context than the framebuffer");
-}
-
-// Copies rows of `width` elements in reverse order: the device keeps row 0 at the bottom, images
-// put it at the top.
-template <typename T>
-void flip_rows(const std::vector<T>& bottom_up, int width, int height, T* top_down) {
-  const auto row = static_cast<std::size_t>(width);
+// Copies rows of `row_bytes` in reverse order: textures keep row 0 at the bottom, images at the top.
+void flip_rows(const std::byte* bottom_up, std::size_t row_bytes, int height, std::byte* top_down) {
   for (int y = 0; y < height; ++y) {
-    std::memcpy(top_down + static_cast<std::size_t>(height - 1 - y) * row, bottom_up.data() + y * row, row * sizeof(T));
+    std::memcpy(top_down + static_cast<std::size_t>(height - 1 - y) * row_bytes,
+                bottom_up + static_cast<std::size_t>(y) * row_bytes, row_bytes);
+  }
+}
+
+void check_size(int width, int height) {
+  if (width < 1 || height < 1 || width > CLR_MAX_FRAMEBUFFER_SIZE || height > CLR_MAX_FRAMEBUFFER_SIZE) {
+    throw InvalidArgument("framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
+                          " is out of range: each side must be 1.." + std::to_string(CLR_MAX_FRAMEBUFFER_SIZE));
   }
 }
 
 }  // namespace
 
 Framebuffer::Framebuffer(Context& context, int width, int height) : impl_(std::make_unique<Impl>()) {
-  if (width < 1 || height < 1 || width > CLR_MAX_FRAMEBUFFER_SIZE || height > CLR_MAX_FRAMEBUFFER_SIZE) {
-    throw InvalidArgument("framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
-                          " is out of range: each side must be 1.." + std::to_string(CLR_MAX_FRAMEBUFFER_SIZE));
-  }
+  check_size(width, height);
   impl_->state = context.impl().state;
-  const std::size_t bytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4;
-  check_allocation(*impl_->state, bytes, "framebuffer attachments");
-  translate_cl_errors([&] {
-    impl_->target.color = cl::Buffer(impl_->state->context, CL_MEM_READ_WRITE, bytes);
-    impl_->target.depth = cl::Buffer(impl_->state->context, CL_MEM_READ_WRITE, bytes);
-  });
-  impl_->target.width = width;
-  impl_->target.height = height;
-  clear({0, 0, 0, 1}, 1.0f);
+  impl_->width = width;
+  impl_->height = height;
+  impl_->owned.reserve(2);
+  impl_->owned.emplace_back(context, width, height, Format::RGBA8);
+  impl_->owned.emplace_back(context, width, height, Format::Depth32FStencil8);
+  impl_->colors = {&impl_->owned[0]};
+  impl_->depth_stencil = &impl_->owned[1];
+  clear({0, 0, 0, 1}, 1.0f, 0);
 }
+
+Framebuffer::Framebuffer(Context& context, std::vector<Texture*> colors, Texture* depth_stencil)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->state = context.impl().state;
+  if (colors.size() > kMaxColorAttachments) {
+    throw InvalidArgument("a framebuffer has at most " + std::to_string(kMaxColorAttachments) + " colour attachments, not " +
+                          std::to_string(colors.size()));
+  }
+  std::vector<Texture*> all = colors;
+  if (depth_stencil != nullptr) all.push_back(depth_stencil);
+  if (all.empty()) throw InvalidArgument("a framebuffer needs at least one attachment");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const std::string name = i < colors.size() ? "colour attachment " + std::to_string(i) : "depth attachment";
+    if (all[i] == nullptr) throw InvalidArgument(name + " is null");
+    if (all[i]->impl().state != impl_->state) throw InvalidArgument(name + " belongs to another context than the framebuffer");
+    if (all[i]->width() != all[0]->width() || all[i]->height() != all[0]->height()) {
+      throw InvalidArgument(name + " is " + std::to_string(all[i]->width()) + "x" + std::to_string(all[i]->height()) +
+                            " but the framebuffer's first attachment is " + std::to_string(all[0]->width()) + "x" +
+                            std::to_string(all[0]->height()));
+    }
+    const bool depth = format_info(all[i]->format()).depth;
+    if (depth != (i >= colors.size())) {
+      throw InvalidArgument(name + " has the format " + format_info(all[i]->format()).name + ", which is " +
+                            (depth ? "a depth format" : "not a depth format"));
+    }
+  }
+  impl_->colors = std::move(colors);
+  impl_->depth_stencil = depth_stencil;
+  impl_->width = all[0]->width();
+  impl_->height = all[0]->height();
+}
+
 Framebuffer::~Framebuffer() = default;
 Framebuffer::Framebuffer(Framebuffer&&) noexcept = default;
 Framebuffer& Framebuffer::operator=(Framebuffer&&) noexcept = default;
 
-int Framebuffer::width() const { return impl_->target.width; }
-int Framebuffer::height() const { return impl_->target.height; }
+int Framebuffer::width() const { return impl_->width; }
+int Framebuffer::height() const { return impl_->height; }
+int Framebuffer::color_count() const { return static_cast<int>(impl_->colors.size()); }
+Texture* Framebuffer::depth_stencil() { return impl_->depth_stencil; }
 
-void Framebuffer::clear(std::array<float, 4> color, float depth, std::uint8_t) {
+Texture& Framebuffer::color(int index) {
+  if (index < 0 || index >= color_count()) {
+    throw InvalidArgument("colour attachment " + std::to_string(index) + " does not exist: the framebuffer has " +
+                          std::to_string(color_count()));
+  }
+  return *impl_->colors[static_cast<std::size_t>(index)];
+}
+
+namespace {
+
+// Fills level 0 of `texture` with `value` through the clear kernel of its kind ("float", "int", "uint").
+template <typename Value>
+void clear_texels(ContextState& state, const Texture::Impl& texture, const char* kind, Value value) {
+  cl::Kernel kernel(state.core_program(), (std::string("clear_texels_") + kind).c_str());
+  const auto count = static_cast<cl_uint>(std::size_t(texture.width) * std::size_t(texture.height));
+  cl_host::set_args(kernel, cl_int{static_cast<int>(texture.format)}, texture.data, count, value);
+  state.queue.set_stage(cl_host::Stage::Other);
+  cl_host::enqueue_items(state.queue, kernel, count, CLR_ITEM_GROUP_SIZE);
+}
+
+}  // namespace
+
+void Framebuffer::clear(std::array<float, 4> color, float depth, std::uint8_t stencil) {
   clear_color(color);
   clear_depth(depth);
+  clear_stencil(stencil);
 }
 
 void Framebuffer::clear_color(std::array<float, 4> color) {
-  const cl_uint packed = cl_uint{to_unorm8(color[0])} | cl_uint{to_unorm8(color[1])} << 8 |
-                         cl_uint{to_unorm8(color[2])} << 16 | cl_uint{to_unorm8(color[3])} << 24;
-  const std::size_t bytes = static_cast<std::size_t>(width()) * static_cast<std::size_t>(height()) * 4;
-  translate_cl_errors([&] { impl_->state->queue.get().enqueueFillBuffer(impl_->target.color, packed, 0, bytes); });
+  for (int k = 0; k < color_count(); ++k) {
+    const FormatInfo& info = format_info(impl_->colors[static_cast<std::size_t>(k)]->format());
+    if (!info.integer) clear_color(k, color);
+    else if (info.is_signed) clear_color_int(k, {static_cast<std::int32_t>(color[0]), static_cast<std::int32_t>(color[1]), static_cast<std::int32_t>(color[2]), static_cast<std::int32_t>(color[3])});
+    else clear_color_uint(k, {static_cast<std::uint32_t>(std::max(color[0], 0.0f)), static_cast<std::uint32_t>(std::max(color[1], 0.0f)), static_cast<std::uint32_t>(std::max(color[2], 0.0f)), static_cast<std::uint32_t>(std::max(color[3], 0.0f))});
+  }
+}
+
+void Framebuffer::clear_color(int index, std::array<float, 4> color) {
+  const Texture::Impl& texture = this->color(index).impl();
+  if (format_info(texture.format).integer) {
+    throw InvalidArgument("colour attachment " + std::to_string(index) + " is " + format_info(texture.format).name +
+                          ": clear it with clear_color_int or clear_color_uint");
+  }
+  translate_cl_errors([&] { clear_texels(*impl_->state, texture, "float", cl_float4{{color[0], color[1], color[2], color[3]}}); });
+}
+
+void Framebuffer::clear_color_int(int index, std::array<std::int32_t, 4> value) {
+  const Texture::Impl& texture = color(index).impl();
+  const FormatInfo& info = format_info(texture.format);
+  if (!info.integer || !info.is_signed) {
+    throw InvalidArgument("colour attachment " + std::to_string(index) + " is " + info.name + ", not a signed integer format");
+  }
+  translate_cl_errors([&] { clear_texels(*impl_->state, texture, "int", cl_int4{{value[0], value[1], value[2], value[3]}}); });
+}
+
+void Framebuffer::clear_color_uint(int index, std::array<std::uint32_t, 4> value) {
+  const Texture::Impl& texture = color(index).impl();
+  const FormatInfo& info = format_info(texture.format);
+  if (!info.integer || info.is_signed) {
+    throw InvalidArgument("colour attachment " + std::to_string(index) + " is " + info.name + ", not an unsigned integer format");
+  }
+  translate_cl_errors([&] { clear_texels(*impl_->state, texture, "uint", cl_uint4{{value[0], value[1], value[2], value[3]}}); });
 }
 
 void Framebuffer::clear_depth(float depth) {
+  if (impl_->depth_stencil == nullptr) return;
   // As glClearDepth: clamped to [0, 1].
   const float value = std::isnan(depth) ? 0.0f : std::clamp(depth, 0.0f, 1.0f);
-  const std::size_t bytes = static_cast<std::size_t>(width()) * static_cast<std::size_t>(height()) * 4;
-  translate_cl_errors([&] { impl_->state->queue.get().enqueueFillBuffer(impl_->target.depth, value, 0, bytes); });
+  const Texture::Impl& texture = impl_->depth_stencil->impl();
+  const std::size_t bytes = std::size_t(texture.width) * std::size_t(texture.height) * sizeof(float);
+  translate_cl_errors([&] { impl_->state->queue.get().enqueueFillBuffer(texture.data, value, 0, bytes); });
 }
 
-DrawStats Framebuffer::draw(const DrawCall& call) {
-  if (call.vertices == nullptr) throw InvalidArgument("draw call has no vertex buffer");
-  const VertexBuffer::Impl& vertices = call.vertices->impl();
-  check_same_context(*impl_, vertices.state, "vertex buffer");
-  pipeline::DrawSource source;
-  source.positions = vertices.positions;
-  source.normals = vertices.normals;
-  source.has_normals = vertices.has_normals;
-  source.vertex_count = vertices.count;
-  source.element_count = vertices.count;
-  if (call.indices != nullptr) {
-    IndexBuffer::Impl& indices = call.indices->impl();
-    check_same_context(*impl_, indices.state, "index buffer");
-    source.indices = indices.indices;
-    source.index_size = indices.index_size;
-    source.index_cache = &indices.range_cache;
-    source.element_count = indices.count;
+void Framebuffer::clear_stencil(std::uint8_t stencil) {
+  if (impl_->depth_stencil == nullptr || !format_info(impl_->depth_stencil->format()).stencil) return;
+  const Texture::Impl& texture = impl_->depth_stencil->impl();
+  const std::size_t bytes = std::size_t(texture.width) * std::size_t(texture.height);
+  translate_cl_errors([&] {
+    impl_->state->queue.get().enqueueFillBuffer(texture.data, cl_uchar{stencil}, texture.describe().stencil_offset, bytes);
+  });
+}
+
+Image Framebuffer::read_color(int index) const {
+  Texture& texture = const_cast<Framebuffer*>(this)->color(index);
+  const FormatInfo& info = format_info(texture.format());
+  if (info.integer || info.bytes_per_texel != info.channels) {
+    throw InvalidArgument(std::string("read_color converts 8-bit normalized attachments; attachment ") +
+                          std::to_string(index) + " is " + info.name + ": read it with color(" + std::to_string(index) +
+                          ").read()");
   }
-  return translate_cl_errors(
-      [&] { return impl_->state->get_pipeline().draw(impl_->target, source, call.first, call.count, call.state); });
-}
-
-Image Framebuffer::read_color(int) const {
+  const std::vector<std::byte> texels = texture.read(0);
   Image image;
   image.width = width();
   image.height = height();
-  const std::size_t pixels = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
-  std::vector<cl_uint> bottom_up(pixels);
-  translate_cl_errors([&] {
-    impl_->state->queue.get().enqueueReadBuffer(impl_->target.color, CL_TRUE, 0, pixels * 4, bottom_up.data());
-  });
+  const std::size_t pixels = std::size_t(image.width) * std::size_t(image.height);
+  std::vector<std::byte> rgba(pixels * 4);
+  for (std::size_t i = 0; i < pixels; ++i) {
+    for (int c = 0; c < 4; ++c) {
+      // Missing channels read as 0, a missing alpha as 1 (OpenGL's rule for R and RG formats).
+      rgba[i * 4 + c] = c < info.channels ? texels[i * std::size_t(info.channels) + c] : std::byte{c == 3 ? 255 : 0};
+    }
+  }
   image.rgba.resize(pixels * 4);
-  // Packed as R | G << 8 | B << 16 | A << 24; on the little-endian hosts OpenCL runs on, that is the
-  // byte order R, G, B, A.
-  static_assert(std::endian::native == std::endian::little);
-  flip_rows(bottom_up, image.width, image.height, reinterpret_cast<cl_uint*>(image.rgba.data()));
+  flip_rows(rgba.data(), std::size_t(image.width) * 4, image.height, reinterpret_cast<std::byte*>(image.rgba.data()));
   return image;
 }
 
 std::vector<float> Framebuffer::read_depth() const {
-  const std::size_t pixels = static_cast<std::size_t>(width()) * static_cast<std::size_t>(height());
-  std::vector<float> bottom_up(pixels);
-  translate_cl_errors([&] {
-    impl_->state->queue.get().enqueueReadBuffer(impl_->target.depth, CL_TRUE, 0, pixels * 4, bottom_up.data());
-  });
-  std::vector<float> top_down(pixels);
-  flip_rows(bottom_up, width(), height(), top_down.data());
+  if (impl_->depth_stencil == nullptr) throw InvalidArgument("the framebuffer has no depth attachment");
+  const std::vector<std::byte> texels = impl_->depth_stencil->read(0);
+  std::vector<float> top_down(std::size_t(width()) * std::size_t(height()));
+  flip_rows(texels.data(), std::size_t(width()) * sizeof(float), height(), reinterpret_cast<std::byte*>(top_down.data()));
+  return top_down;
+}
+
+std::vector<std::uint8_t> Framebuffer::read_stencil() const {
+  if (impl_->depth_stencil == nullptr || !format_info(impl_->depth_stencil->format()).stencil) {
+    throw InvalidArgument("the framebuffer has no stencil attachment");
+  }
+  const std::vector<std::uint8_t> bottom_up = impl_->depth_stencil->read_stencil();
+  std::vector<std::uint8_t> top_down(bottom_up.size());
+  flip_rows(reinterpret_cast<const std::byte*>(bottom_up.data()), std::size_t(width()), height(),
+            reinterpret_cast<std::byte*>(top_down.data()));
   return top_down;
 }
 

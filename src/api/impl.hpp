@@ -6,35 +6,51 @@
 #include "cl/queue.hpp"
 #include "clraster/clraster.hpp"
 #include "pipeline/pipeline.hpp"
+#include "program/interface.hpp"
 #include "stages/types.h"
 
 #include <memory>
+#include <optional>
 
 namespace clraster {
 
 // Shared by the Context and every resource made from it, so a resource that outlives its Context
 // still holds a valid OpenCL context and queue.
-struct ContextState {
+struct ContextState : std::enable_shared_from_this<ContextState> {
   ContextOptions options;
   cl_host::Device device;
   cl::Context context;
   cl_host::Queue queue;
   cl_host::ProgramCache programs;
   std::unique_ptr<pipeline::Pipeline> pipeline;  // built by the first draw
+  std::unique_ptr<Program> builtin;              // the built-in program, compiled by its first use
 
   ContextState(const ContextOptions& options, cl_host::Device device);
+  // The context-wide kernels: scans, sorts, index validation, textures.
+  const cl::Program& core_program();
   pipeline::Pipeline& get_pipeline();
+  const Program& builtin_program();
+  // Build options every program of this context gets.
+  std::string build_options() const;
+
+ private:
+  std::optional<cl::Program> core_;
 };
 
 struct Context::Impl {
   std::shared_ptr<ContextState> state;
 };
 
+struct Buffer::Impl {
+  std::shared_ptr<ContextState> state;
+  cl::Buffer buffer;
+  std::size_t bytes = 0;
+};
+
 struct VertexBuffer::Impl {
   std::shared_ptr<ContextState> state;
-  cl::Buffer positions;
-  cl::Buffer normals;
-  bool has_normals = false;
+  std::optional<Buffer> positions;
+  std::optional<Buffer> normals;  // none: the attribute "normal" reads zeros
   std::size_t count = 0;
 };
 
@@ -60,9 +76,37 @@ struct Texture::Impl {
   std::size_t level_bytes(int level) const;
 };
 
+struct Program::Impl {
+  std::shared_ptr<ContextState> state;
+  std::string file_name;
+  program::ParsedProgram parsed;
+  cl::Program program;
+  std::unique_ptr<pipeline::ProgramStages> stages;  // the program's stage kernels, made by its first draw
+};
+
+// Parses, generates and builds a program's stage kernels (throws what Program's constructor documents).
+std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextState>& state, const std::string& source,
+                                               const std::string& file_name);
+
+struct Bindings::Impl {
+  const Program::Impl* program = nullptr;
+  std::vector<std::byte> uniforms;            // the uniform block, ProgramInterface::uniform_bytes
+  std::vector<bool> uniform_set;              // per declared uniform
+  struct BoundTexture {
+    const Texture::Impl* texture = nullptr;
+    Sampler sampler;
+  };
+  std::vector<BoundTexture> textures;         // per declared texture
+  std::vector<const Buffer::Impl*> buffers;   // per declared buffer
+};
+
 struct Framebuffer::Impl {
   std::shared_ptr<ContextState> state;
-  pipeline::RenderTarget target;
+  std::vector<Texture> owned;                 // the attachments of Framebuffer(context, width, height)
+  std::vector<Texture*> colors;
+  Texture* depth_stencil = nullptr;
+  int width = 0;
+  int height = 0;
 };
 
 }  // namespace clraster

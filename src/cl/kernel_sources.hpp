@@ -2,6 +2,7 @@
 // (cmake/embed_sources.cmake), so the library never reads kernel files at run time.
 #pragma once
 
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -12,11 +13,19 @@ struct SourceFile {
   const char* text;
 };
 
-// Every embedded file, in the order they are concatenated into the pipeline program.
+// Every embedded file.
 const std::vector<SourceFile>& all();
 
-// The program text: all files concatenated, each preceded by a #line directive so that compiler
-// messages name the original file and line.
-std::string pipeline_program();
+// The text of one embedded file. Throws std::logic_error for a name that is not embedded.
+const char* text(const char* name);
+
+// The named files concatenated in the given order, each preceded by a #line directive so that
+// compiler messages name the original file and line. Throws std::logic_error for a name that is
+// not embedded.
+std::string compose(std::initializer_list<const char*> names);
+
+// The context-wide program: scans, radix sort, index validation, texture kernels. The stages that
+// run a user program are generated per program (program/generator.hpp).
+std::string core_program();
 
 }  // namespace clraster::cl_sources

@@ -22,6 +22,63 @@ void check_rect(const char* what, const Rect& r, int max_size, int max_offset) {
   }
 }
 
+template <typename Enum>
+int checked(Enum value, Enum last, const char* what) {
+  const int index = static_cast<int>(value);
+  if (index < 0 || index > static_cast<int>(last)) {
+    throw InvalidArgument(std::string(what) + " has the invalid value " + std::to_string(index));
+  }
+  return index;
+}
+
+// The public enums are in the order of the kernels' CLR_* constants (static_asserts below).
+void set_fragment_operations(const DrawState& s, const RenderTarget& target, const program::ParsedProgram& program,
+                             DrawUniforms& u) {
+  const bool has_depth = target.depth_stencil() != nullptr;
+  u.depth_test = s.depth_test && has_depth;
+  u.depth_func = checked(s.depth_func, CompareFunc::Program, "depth_func");
+  u.depth_write = s.depth_write;
+  if (s.depth_test && s.depth_func == CompareFunc::Program && !program.interface.has_depth_test) {
+    throw InvalidArgument("depth_func is Program but the program defines no bool depth_test(clr_fragment* f, "
+                          "float fragment_depth, float stored_depth)");
+  }
+  u.stencil_test = s.stencil_test && target.has_stencil;
+  const StencilFace* faces[2] = {&s.stencil_front, &s.stencil_back};
+  for (int i = 0; i < 2; ++i) {
+    const StencilFace& face = *faces[i];
+    const char* name = i == 0 ? "stencil_front" : "stencil_back";
+    StencilUniforms& out = u.stencil[i];
+    out.func = checked(face.func, CompareFunc::Always, (std::string(name) + ".func (Program is for depth only)").c_str());
+    out.reference = face.reference;
+    out.read_mask = face.read_mask;
+    out.write_mask = face.write_mask;
+    out.stencil_fail = checked(face.stencil_fail, StencilOp::Invert, name);
+    out.depth_fail = checked(face.depth_fail, StencilOp::Invert, name);
+    out.depth_pass = checked(face.depth_pass, StencilOp::Invert, name);
+  }
+  std::copy(s.blend_color.begin(), s.blend_color.end(), u.blend_color);
+  for (int k = 0; k < CLR_MAX_COLOR_ATTACHMENTS; ++k) {
+    const BlendState& b = s.blend[static_cast<std::size_t>(k)];
+    BlendUniforms& out = u.blend[k];
+    const std::string name = "blend[" + std::to_string(k) + "]";
+    out.enabled = b.enabled;
+    out.rgb_equation = checked(b.rgb_equation, BlendEquation::Program, name.c_str());
+    out.alpha_equation = checked(b.alpha_equation, BlendEquation::Program, name.c_str());
+    out.src_rgb = checked(b.src_rgb, BlendFactor::SrcAlphaSaturate, name.c_str());
+    out.dst_rgb = checked(b.dst_rgb, BlendFactor::SrcAlphaSaturate, name.c_str());
+    out.src_alpha = checked(b.src_alpha, BlendFactor::SrcAlphaSaturate, name.c_str());
+    out.dst_alpha = checked(b.dst_alpha, BlendFactor::SrcAlphaSaturate, name.c_str());
+    out.write_mask = 0;
+    for (unsigned c = 0; c < 4; ++c) out.write_mask |= b.write_mask[c] ? 1u << c : 0u;
+    const bool programmed = b.rgb_equation == BlendEquation::Program || b.alpha_equation == BlendEquation::Program;
+    if (b.enabled && programmed && !program.interface.has_blend) {
+      throw InvalidArgument(name + " uses BlendEquation::Program but the program defines no float4 blend(clr_fragment* f, "
+                            "uint target, float4 source, float4 destination)");
+    }
+    u.target_format[k] = k < static_cast<int>(target.formats.size()) ? target.formats[static_cast<std::size_t>(k)] : -1;
+  }
+}
+
 }  // namespace
 
 Mat4 model_view_projection(const DrawState& state) {
@@ -55,24 +112,10 @@ std::array<float, 9> normal_matrix(const Mat4& m) {
   return result;
 }
 
-DrawUniforms make_uniforms(const DrawState& s, int width, int height) {
+DrawUniforms make_uniforms(const DrawState& s, const RenderTarget& target, const program::ParsedProgram& program) {
   DrawUniforms u{};
-  const Mat4 mvp = model_view_projection(s);
-  std::copy(mvp.begin(), mvp.end(), u.mvp);
-  std::copy(s.model_view.begin(), s.model_view.end(), u.model_view);
-  const std::array<float, 9> normals = normal_matrix(s.model_view);
-  std::copy(normals.begin(), normals.end(), u.normal_matrix);
-  std::copy(s.base_color.begin(), s.base_color.end(), u.base_color);
-
-  if (s.shading == Shading::Depth &&
-      !(std::isfinite(s.depth_shading_range[0]) && std::isfinite(s.depth_shading_range[1]) &&
-        s.depth_shading_range[1] > s.depth_shading_range[0])) {
-    throw InvalidArgument("depth shading range [" + std::to_string(s.depth_shading_range[0]) + ", " +
-                          std::to_string(s.depth_shading_range[1]) + "] must be finite with near < far");
-  }
-  u.depth_shading_range[0] = s.depth_shading_range[0];
-  u.depth_shading_range[1] = s.depth_shading_range[1];
-
+  const int width = target.width;
+  const int height = target.height;
   check_rect("viewport", s.viewport, CLR_MAX_FRAMEBUFFER_SIZE, CLR_MAX_VIEWPORT_OFFSET);
   const Rect viewport = (s.viewport.width == 0 || s.viewport.height == 0) ? Rect{0, 0, width, height} : s.viewport;
   u.viewport_scale[0] = static_cast<float>(viewport.width) * 0.5f;
@@ -104,11 +147,7 @@ DrawUniforms make_uniforms(const DrawState& s, int width, int height) {
                                                        : CLR_TOPOLOGY_FAN;
   u.cull = s.cull == CullMode::None ? CLR_CULL_NONE : s.cull == CullMode::Back ? CLR_CULL_BACK : CLR_CULL_FRONT;
   u.front_face_ccw = s.front_face == FrontFace::CounterClockwise;
-  u.shading = static_cast<int>(s.shading);  // same order as CLR_SHADING_*
-  u.depth_test = s.depth_test;
-  u.depth_func = static_cast<int>(s.depth_func);  // same order as CLR_COMPARE_*
-  u.depth_write = s.depth_write;
-  u.blend = s.blend[0].enabled ? CLR_BLEND_ADDITIVE : CLR_BLEND_REPLACE;
+  set_fragment_operations(s, target, program, u);
   return u;
 }
 
@@ -116,6 +155,13 @@ bool writable_rect_empty(const DrawUniforms& u) { return u.clip_rect[0] >= u.cli
 
 }  // namespace clraster::pipeline
 
-static_assert(static_cast<int>(clraster::Shading::Constant) == CLR_SHADING_CONSTANT);
 static_assert(static_cast<int>(clraster::CompareFunc::Less) == CLR_COMPARE_LESS);
-static_assert(static_cast<int>(clraster::CompareFunc::Always) == CLR_COMPARE_ALWAYS);
+static_assert(static_cast<int>(clraster::CompareFunc::Program) == CLR_COMPARE_PROGRAM);
+static_assert(static_cast<int>(clraster::StencilOp::Invert) == CLR_STENCIL_INVERT);
+static_assert(static_cast<int>(clraster::BlendEquation::Program) == CLR_BLEND_PROGRAM);
+static_assert(static_cast<int>(clraster::BlendFactor::SrcAlphaSaturate) == CLR_FACTOR_SRC_ALPHA_SATURATE);
+static_assert(static_cast<int>(clraster::Format::Depth32FStencil8) == CLR_FORMAT_DEPTH32F_STENCIL8);
+static_assert(static_cast<int>(clraster::Wrap::MirroredRepeat) == CLR_WRAP_MIRRORED_REPEAT);
+static_assert(static_cast<int>(clraster::MipFilter::Linear) == CLR_MIP_LINEAR);
+static_assert(clraster::kMaxColorAttachments == CLR_MAX_COLOR_ATTACHMENTS);
+static_assert(clraster::kMaxTextureSize == CLR_MAX_TEXTURE_SIZE);

@@ -2,6 +2,8 @@
 #pragma once
 
 #include "clraster/clraster.hpp"
+#include "pipeline/pipeline.hpp"
+#include "program/interface.hpp"
 #include "stages/types.h"
 
 #include <array>
@@ -16,8 +18,9 @@ Mat4 model_view_projection(const DrawState& state);
 // surfaces. A singular matrix gets its cofactor matrix, which keeps the normals' directions.
 std::array<float, 9> normal_matrix(const Mat4& model_view);
 
-// Throws InvalidArgument naming the field and value for anything out of range.
-DrawUniforms make_uniforms(const DrawState& state, int framebuffer_width, int framebuffer_height);
+// Throws InvalidArgument naming the field and value for anything out of range, or for state the
+// program cannot serve (a Program depth function or blend equation it does not define).
+DrawUniforms make_uniforms(const DrawState& state, const RenderTarget& target, const program::ParsedProgram& program);
 
 // The pixels a draw may write: framebuffer, viewport and scissor intersected (may be empty).
 bool writable_rect_empty(const DrawUniforms& uniforms);

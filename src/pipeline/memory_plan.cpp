@@ -21,9 +21,9 @@ resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::u
   resources::ScratchSizes b{};
   at(b, Scratch::ShadedVertices) =
       (shade_all ? in.vertex_count : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count) *
-      kShadedVertexBytes;
-  at(b, Scratch::Records) = chunk * sizeof(SetupTriangle);
-  at(b, Scratch::OverflowRecords) = overflow * sizeof(SetupTriangle);
+      in.shaded_vertex_bytes;
+  at(b, Scratch::Records) = chunk * in.setup_triangle_bytes;
+  at(b, Scratch::OverflowRecords) = overflow * in.setup_triangle_bytes;
   // Counts get one more entry, whose exclusive scan is the total.
   at(b, Scratch::ClippedCounts) = (chunk + 1) * sizeof(cl_uint);
   at(b, Scratch::PairCounts) = (chunk + 1) * sizeof(cl_uint);
@@ -53,7 +53,7 @@ StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint3
 
 MemoryPlan plan_memory(const PlanInput& in) {
   MemoryPlan plan;
-  plan.shade_all_vertices = in.indexed && in.vertex_count * kShadedVertexBytes <= in.memory_cap / 4;
+  plan.shade_all_vertices = in.indexed && in.vertex_count * in.shaded_vertex_bytes <= in.memory_cap / 4;
   // Room for the triangles of one primitive at least, however it is clipped.
   const auto overflow_for = [](std::uint64_t chunk) {
     return std::max<std::uint64_t>(chunk / CLR_OVERFLOW_DIVISOR, CLR_MAX_CLIP_TRIANGLES);

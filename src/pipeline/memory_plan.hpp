@@ -10,9 +10,6 @@
 
 namespace clraster::pipeline {
 
-// Bytes of one vertex stage output slot (a clip position and the varyings).
-inline constexpr std::size_t kShadedVertexBytes = CLR_SHADED_VERTEX_FLOAT4S * 4 * sizeof(float);
-
 struct PlanInput {
   std::size_t memory_cap = 0;
   std::uint64_t vertex_count = 0;
@@ -20,6 +17,8 @@ struct PlanInput {
   int topology = 0;               // CLR_TOPOLOGY_*
   std::uint32_t primitive_count = 0;
   std::uint32_t tile_count = 0;
+  std::size_t shaded_vertex_bytes = 0;   // of the program: a clip position and its varyings
+  std::size_t setup_triangle_bytes = 0;  // of the program: a SetupTriangle with its varyings
 };
 
 struct MemoryPlan {

@@ -3,6 +3,7 @@
 #include "cl/launch.hpp"
 #include "clr_limits.h"
 #include "pipeline/draw_state.hpp"
+#include "program/generator.hpp"
 #include "stages/types.h"
 
 #include <algorithm>
@@ -25,22 +26,28 @@ std::uint32_t primitives_of(int topology, std::uint64_t elements) {
 
 }  // namespace
 
-Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
+Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, int tile_size,
                    std::size_t memory_cap)
-    : queue_(queue),
+    : context_(context),
+      queue_(queue),
       tile_size_(tile_size),
       memory_cap_(memory_cap),
       placeholder_(context, CL_MEM_READ_WRITE, 16),
       uniforms_(context, CL_MEM_READ_ONLY, sizeof(DrawUniforms)),
       counters_(context, CL_MEM_READ_WRITE, CLR_COUNTER_COUNT * sizeof(cl_uint)),
       scratch_(context),
-      index_max_(program, "index_max"),
-      scan_(program),
-      sort_(program, scan_),
-      vertex_(program),
-      setup_(program),
-      bin_(program, sort_),
-      raster_(program) {}
+      index_max_(core, "index_max"),
+      scan_(core),
+      sort_(core, scan_) {}
+
+void Pipeline::upload(cl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
+  bytes = std::max<std::size_t>(bytes, 16);  // OpenCL has no empty buffers
+  if (bytes > capacity) {
+    buffer = cl::Buffer(context_, CL_MEM_READ_ONLY, bytes);
+    capacity = bytes;
+  }
+  if (data != nullptr) queue_.get().enqueueWriteBuffer(buffer, CL_FALSE, 0, bytes, data, nullptr, queue_.event());
+}
 
 std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count) {
   IndexRangeCache& cache = *source.index_cache;
@@ -72,62 +79,97 @@ std::uint32_t Pipeline::last_offset_within(const cl::Buffer& offsets, std::uint3
 DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
                          std::uint32_t count, const DrawState& state) {
   queue_.set_stage(cl_host::Stage::Other);
-  const char* elements = source.index_size ? "indices" : "vertices";
-  if (first > source.element_count) {
-    throw InvalidArgument("draw starts at element " + std::to_string(first) + " but there are only " +
-                          std::to_string(source.element_count) + " " + elements);
+  const program::ParsedProgram& program = *source.program;
+  const bool indexed = source.index_size != 0;
+  const char* elements = indexed ? "indices" : "vertices";
+  // Indices, or vertices when non-indexed: how many the draw may take from `first`.
+  const std::uint64_t element_limit = indexed ? source.index_count : source.vertex_limit;
+  if (element_limit == kUnlimited && count == kAllElements) {
+    throw InvalidArgument("a non-indexed draw without per-vertex attributes needs an explicit vertex count");
   }
-  const std::uint64_t available = source.element_count - first;
+  if (element_limit != kUnlimited && first > element_limit) {
+    throw InvalidArgument("draw starts at element " + std::to_string(first) + " but there are only " +
+                          std::to_string(element_limit) + " " + elements);
+  }
+  const std::uint64_t available = element_limit == kUnlimited ? kUnlimited : element_limit - first;
   const std::uint64_t element_count = count == kAllElements ? available : count;
   if (element_count > available) {
     throw InvalidArgument("draw of " + std::to_string(element_count) + " elements from element " +
-                          std::to_string(first) + " runs past the " + std::to_string(source.element_count) + " " +
-                          elements);
+                          std::to_string(first) + " runs past the " + std::to_string(element_limit) + " " + elements);
   }
-  if (element_count > 0xffffffffull - 2) throw InvalidArgument("draw of more than 2^32 - 3 elements");
+  if (element_count > 0xffffffffull - 2 || std::uint64_t{first} + element_count > 0xffffffffull) {
+    throw InvalidArgument("draw of more than 2^32 - 3 elements, or past element 2^32");
+  }
+  if (source.instance_count > source.instance_limit) {
+    throw InvalidArgument("draw of " + std::to_string(source.instance_count) + " instances, but the per-instance attributes hold " +
+                          std::to_string(source.instance_limit));
+  }
 
-  DrawUniforms uniforms = make_uniforms(state, target.width, target.height);
+  DrawUniforms uniforms = make_uniforms(state, target, program);
   const int topology = uniforms.topology;
   DrawStats stats;
   const std::uint32_t primitives = primitives_of(topology, element_count);
-  stats.triangles = primitives;
+  stats.triangles = std::uint64_t{primitives} * source.instance_count;
   stats.peak_memory_bytes = scratch_.peak_bytes();
-  if (primitives == 0) return stats;
+  if (primitives == 0 || source.instance_count == 0) return stats;
+
+  // Every vertex the draw references: checked before anything renders.
+  const auto used_elements = static_cast<std::uint32_t>(topology == CLR_TOPOLOGY_LIST ? 3ull * primitives : element_count);
+  std::uint64_t vertex_count = std::uint64_t{first} + element_count;  // non-indexed: vertices [0, first + count)
+  if (indexed) {
+    const std::uint32_t largest = largest_index(source, first, used_elements);
+    if (largest >= source.vertex_limit) {
+      throw InvalidArgument("index " + std::to_string(largest) + " is out of range: the vertex attributes hold " +
+                            std::to_string(source.vertex_limit) + " vertices");
+    }
+    vertex_count = std::min<std::uint64_t>(source.vertex_limit, std::uint64_t{largest} + 1);
+  }
 
   Frame frame;
   frame.target = &target;
+  frame.source = &source;
   frame.topology = topology;
-  frame.vertex_count = source.vertex_count;
+  frame.vertex_count = vertex_count;
   frame.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
   frame.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
-  frame.plan = plan_memory({memory_cap_, source.vertex_count, source.index_size != 0, topology, primitives,
-                            frame.tiles_x * frame.tiles_y});
-
-  const auto used_elements = static_cast<std::uint32_t>(topology == CLR_TOPOLOGY_LIST ? 3ull * primitives : element_count);
-  if (source.index_size) {
-    const std::uint32_t largest = largest_index(source, first, used_elements);
-    if (largest >= source.vertex_count) {
-      throw InvalidArgument("index " + std::to_string(largest) + " is out of range: the vertex buffer has " +
-                            std::to_string(source.vertex_count) + " vertices");
-    }
-  }
+  frame.shaded_vertex_bytes = program::shaded_vertex_bytes(program);
+  frame.setup_triangle_bytes = program::setup_triangle_bytes(program);
+  frame.plan = plan_memory({memory_cap_, vertex_count, indexed, topology, primitives, frame.tiles_x * frame.tiles_y,
+                            frame.shaded_vertex_bytes, frame.setup_triangle_bytes});
 
   // Validated: from here on the draw renders.
   uniforms.index_size = source.index_size;
   uniforms.first = first;
-  queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
   cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
   scratch_.set_capacities(frame.plan.buffer_bytes);
-  const stages::DrawBuffers buffers{source.positions,  source.has_normals ? source.normals : placeholder_,
-                                    source.has_normals, source.index_size ? source.indices : placeholder_,
-                                    uniforms_,          counters_};
+  stages::ProgramResources resources;
+  upload(uniform_block_, uniform_block_bytes_, source.uniforms.data(), source.uniforms.size());
+  resources.uniform_block = uniform_block_;
+  upload(texture_descs_, texture_descs_bytes_, source.texture_descs.data(), source.texture_descs.size() * sizeof(TextureDesc));
+  resources.texture_descs = texture_descs_;
+  resources.textures = source.textures;
+  resources.buffers = source.buffers;
+  stages::DrawBuffers buffers;
+  buffers.indices = indexed ? source.indices : placeholder_;
+  buffers.uniforms = uniforms_;
+  buffers.counters = counters_;
+  buffers.resources = &resources;
+  upload(attribute_descs_, attribute_descs_bytes_, source.attributes.data(), source.attributes.size() * sizeof(AttributeDesc));
+  buffers.attribute_descs = attribute_descs_;
+  buffers.attributes = source.attribute_buffers;
   frame.buffers = &buffers;
-  if (frame.plan.shade_all_vertices) {
-    vertex_.run(queue_, {&buffers, true, 0, 0, static_cast<std::uint32_t>(source.vertex_count),
-                         scratch_.get(Scratch::ShadedVertices, source.vertex_count * kShadedVertexBytes)});
-  }
-  for (std::uint32_t begin = 0; begin < primitives;) {
-    begin += run_chunk(frame, begin, std::min(frame.plan.chunk_primitives, primitives - begin), stats);
+
+  // Instances are drawn one after the other, in order, as OpenGL orders their primitives.
+  for (std::uint32_t instance = 0; instance < source.instance_count; ++instance) {
+    uniforms.instance = instance;
+    queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
+    if (frame.plan.shade_all_vertices) {
+      source.stages->vertex.run(queue_, {&buffers, true, 0, 0, static_cast<std::uint32_t>(vertex_count),
+                                         scratch_.get(Scratch::ShadedVertices, vertex_count * frame.shaded_vertex_bytes)});
+    }
+    for (std::uint32_t begin = 0; begin < primitives;) {
+      begin += run_chunk(frame, begin, std::min(frame.plan.chunk_primitives, primitives - begin), stats);
+    }
   }
 
   stats.triangles_dropped = read_uint(queue_, counters_, CLR_COUNTER_DROPPED);
@@ -141,11 +183,11 @@ std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::
   SlotMap slots{1, 0, 0};
   cl::Buffer shaded;
   if (frame.plan.shade_all_vertices) {
-    shaded = scratch_.get(Scratch::ShadedVertices, frame.vertex_count * kShadedVertexBytes);
+    shaded = scratch_.get(Scratch::ShadedVertices, frame.vertex_count * frame.shaded_vertex_bytes);
   } else {
     const StreamRange range = stream_range(frame.topology, begin, count);
-    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * kShadedVertexBytes);
-    vertex_.run(queue_, {frame.buffers, false, range.begin, range.count, range.slot_count, shaded});
+    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * frame.shaded_vertex_bytes);
+    frame.source->stages->vertex.run(queue_, {frame.buffers, false, range.begin, range.count, range.slot_count, shaded});
     slots = {0, range.begin, range.count};
   }
 
@@ -153,11 +195,12 @@ std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::
   // triangles clipping leaves. Both count arrays get one more entry, zero, whose exclusive scan is
   // the total.
   const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
-  const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * sizeof(SetupTriangle));
+  const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * frame.setup_triangle_bytes);
   const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, count_bytes);
   const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
   const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
-  setup_.run(queue_, {frame.buffers, slots, shaded, begin, count, records, pair_offsets, clipped_offsets});
+  ProgramStages& stages = *frame.source->stages;
+  stages.setup.run(queue_, {frame.buffers, slots, shaded, begin, count, records, pair_offsets, clipped_offsets});
   cl_host::fill(queue_, clipped_offsets, cl_uint{0}, count * sizeof(cl_uint), sizeof(cl_uint));
   scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
   std::uint32_t clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
@@ -166,9 +209,9 @@ std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::
     clipped = read_uint(queue_, clipped_offsets, count);
   }
   const cl::Buffer overflow =
-      scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * sizeof(SetupTriangle));
+      scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * frame.setup_triangle_bytes);
   if (clipped > 0) {
-    setup_.run_clipped(queue_, {frame.buffers, slots, shaded, begin, count, clipped_offsets, overflow, pair_offsets});
+    stages.setup.run_clipped(queue_, {frame.buffers, slots, shaded, begin, count, clipped_offsets, overflow, pair_offsets});
   }
 
   // Where each primitive's bin pairs go.
@@ -219,11 +262,18 @@ void Pipeline::bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk
     bin.block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::RadixSort::scan_scratch_bytes(batch_pairs));
     bin.counters = counters_;
     bin.tile_ranges = scratch_.get(Scratch::TileRanges, std::size_t{tile_count} * 2 * sizeof(cl_uint));
-    const int sorted = bin_.run(queue_, bin);
+    ProgramStages& stages = *frame.source->stages;
+    const int sorted = stages.bin.run(queue_, bin);
 
-    raster_.run(queue_, {chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x,
-                         frame.tiles_y, tile_size_, frame.target->color, frame.target->depth,
-                         static_cast<std::uint32_t>(frame.target->width), uniforms_});
+    const RenderTarget& target = *frame.target;
+    stages::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x,
+                                frame.tiles_y, tile_size_, static_cast<std::uint32_t>(target.width), uniforms_,
+                                target.depth_stencil() != nullptr ? target.depth_stencil : placeholder_, target.stencil_offset,
+                                {}, frame.buffers->resources};
+    for (std::size_t k = 0; k < frame.source->program->interface.outputs.size(); ++k) {
+      raster.colors.push_back(k < target.colors.size() ? target.colors[k] : placeholder_);
+    }
+    stages.raster.run(queue_, raster);
     batch_begin = batch_end;
   }
 }

@@ -1,28 +1,45 @@
 // The pipeline: runs a draw through every stage, chunk by chunk, within the memory cap.
 //
 //   vertex -> setup (assembly, clipping, culling, set-up) -> scans -> bin (emit pairs, radix sort by
-//   tile, tile ranges) -> raster
+//   tile, tile ranges) -> raster (coverage, fragment program, per-fragment operations)
 //
-// All per-vertex, per-triangle and per-pixel work runs in kernels. The host only reads back the
-// totals that size the next step (clipped triangles and pairs per chunk) and, when a chunk overflows
-// what the plan gave it, binary-searches the offsets to split it.
+// The scans and the sort are context-wide kernels; the stages that run a program's code are
+// compiled per program (ProgramStages). All per-vertex, per-triangle and per-pixel work runs in
+// kernels. The host only reads back the totals that size the next step (clipped triangles and pairs
+// per chunk) and, when a chunk overflows what the plan gave it, binary-searches the offsets to split it.
 #pragma once
 
 #include "clraster/clraster.hpp"
 #include "parallel/radix_sort.hpp"
 #include "pipeline/memory_plan.hpp"
+#include "program/interface.hpp"
 #include "resources/scratch.hpp"
 #include "stages/bin.hpp"
 #include "stages/raster.hpp"
 #include "stages/setup.hpp"
 #include "stages/vertex.hpp"
 
+#include <limits>
+
 namespace clraster::pipeline {
 
-// Where a draw renders to.
+// The stage kernels of one program.
+struct ProgramStages {
+  ProgramStages(const cl::Program& program, parallel::RadixSort& sort)
+      : vertex(program), setup(program), bin(program, sort), raster(program) {}
+  stages::VertexStage vertex;
+  stages::SetupStage setup;
+  stages::BinStage bin;
+  stages::RasterStage raster;
+};
+
+// Where a draw renders to: level 0 of the framebuffer's attachments.
 struct RenderTarget {
-  cl::Buffer color;  // RGBA8 per pixel, row 0 at the bottom
-  cl::Buffer depth;  // float per pixel
+  std::vector<cl::Buffer> colors;
+  std::vector<int> formats;  // CLR_FORMAT_* of each colour attachment
+  cl::Buffer depth_stencil;  // null when there is no depth attachment
+  bool has_stencil = false;
+  std::uint32_t stencil_offset = 0;
   int width = 0;
   int height = 0;
 };
@@ -36,37 +53,50 @@ struct IndexRangeCache {
   std::uint32_t largest = 0;
 };
 
-// What the draw reads, resolved from the public buffers.
+inline constexpr std::uint64_t kUnlimited = std::numeric_limits<std::uint64_t>::max();
+
+// What the draw reads, resolved from the public objects and checked against the program.
 struct DrawSource {
-  cl::Buffer positions;
-  cl::Buffer normals;
-  bool has_normals = false;
-  std::uint64_t vertex_count = 0;
-  cl::Buffer indices;       // null for non-indexed draws
-  int index_size = 0;       // 0, 2 or 4
+  const program::ParsedProgram* program = nullptr;
+  ProgramStages* stages = nullptr;
+  std::vector<cl::Buffer> attribute_buffers;  // per declared attribute
+  std::vector<AttributeDesc> attributes;
+  std::uint64_t vertex_limit = kUnlimited;    // elements of the shortest per-vertex attribute
+  std::uint64_t instance_limit = kUnlimited;  // elements of the shortest per-instance attribute
+  cl::Buffer indices;                         // null for non-indexed draws
+  int index_size = 0;                         // 0, 2 or 4
   IndexRangeCache* index_cache = nullptr;
-  std::uint64_t element_count = 0;  // indices, or vertices when non-indexed
+  std::uint64_t index_count = 0;
+  std::vector<std::byte> uniforms;            // the program's uniform block
+  std::vector<TextureDesc> texture_descs;
+  std::vector<cl::Buffer> textures;
+  std::vector<cl::Buffer> buffers;
+  std::uint32_t instance_count = 1;
 };
 
 class Pipeline {
  public:
-  Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& program, int tile_size,
+  Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, int tile_size,
            std::size_t memory_cap);
 
   DrawStats draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
                  const DrawState& state);
 
+  parallel::RadixSort& sort() { return sort_; }
   std::size_t peak_memory_bytes() const { return scratch_.peak_bytes(); }
 
  private:
   // What every step of one draw needs.
   struct Frame {
     const RenderTarget* target = nullptr;
+    const DrawSource* source = nullptr;
     const stages::DrawBuffers* buffers = nullptr;
     MemoryPlan plan;
     int topology = 0;
-    std::uint64_t vertex_count = 0;
+    std::uint64_t vertex_count = 0;  // slots when every vertex is shaded once
     std::uint32_t tiles_x = 0, tiles_y = 0;
+    std::size_t shaded_vertex_bytes = 0;
+    std::size_t setup_triangle_bytes = 0;
   };
 
   std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);
@@ -89,21 +119,22 @@ class Pipeline {
                                    std::uint32_t end_value, std::uint64_t base, std::uint64_t limit);
   // offsets[index] of an exclusive scan of `count` values whose total is known (read only when needed).
   std::uint32_t read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
+  // A device buffer of at least `bytes` holding `data`, reusing `buffer` when it is large enough.
+  void upload(cl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
 
+  const cl::Context& context_;
   cl_host::Queue& queue_;
   int tile_size_;
   std::size_t memory_cap_;
   cl::Buffer placeholder_;  // bound to kernel arguments a draw does not use
   cl::Buffer uniforms_;
   cl::Buffer counters_;
+  cl::Buffer uniform_block_, texture_descs_, attribute_descs_;
+  std::size_t uniform_block_bytes_ = 0, texture_descs_bytes_ = 0, attribute_descs_bytes_ = 0;
   resources::ScratchArena scratch_;
   cl::Kernel index_max_;
   parallel::Scan scan_;
   parallel::RadixSort sort_;
-  stages::VertexStage vertex_;
-  stages::SetupStage setup_;
-  stages::BinStage bin_;
-  stages::RasterStage raster_;
 };
 
 }  // namespace clraster::pipeline

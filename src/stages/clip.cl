@@ -40,8 +40,16 @@ inline ClipVertex clip_intersect(const ClipVertex* inside, const ClipVertex* out
   const float t = d_inside / (d_inside - d_outside);
   ClipVertex v;
   v.position = inside->position + t * (outside->position - inside->position);
+  /* Varyings interpolated without perspective are linear in window space: there the new vertex
+   * sits at t * w_outside / w_new of the way. */
+  const float t_window = t * outside->position.w / v.position.w;
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) {
-    v.varyings[k] = inside->varyings[k] + t * (outside->varyings[k] - inside->varyings[k]);
+    const int mode = clr_varying_interpolation[k];
+    const float s = mode == CLR_INTERPOLATE_NOPERSPECTIVE ? t_window : t;
+    /* Flat varyings (every vertex holds the provoking vertex's value) are copied, not computed,
+     * so that integers travelling as float bits keep their bits even when those read as NaN. */
+    v.varyings[k] = mode == CLR_INTERPOLATE_FLAT ? inside->varyings[k]
+                                                 : inside->varyings[k] + s * (outside->varyings[k] - inside->varyings[k]);
   }
   return v;
 }

@@ -27,11 +27,10 @@ inline uint vertex_slot(uint position, const SlotMap* slots, __global const ucha
 }
 
 inline bool load_clip_vertex(__global const float4* shaded, uint slot, ClipVertex* v) {
-  v->position = shaded[slot * CLR_SHADED_VERTEX_FLOAT4S];
-  const float4 varyings = shaded[slot * CLR_SHADED_VERTEX_FLOAT4S + 1];
-  v->varyings[0] = varyings.x;
-  v->varyings[1] = varyings.y;
-  v->varyings[2] = varyings.z;
+  __global const float4* in = shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
+  v->position = in[0];
+  __global const float* varyings = (__global const float*)(in + 1);
+  for (int k = 0; k < CLR_NUM_VARYINGS; ++k) v->varyings[k] = varyings[k];
   return all(isfinite(v->position));
 }
 
@@ -43,6 +42,14 @@ bool assemble_primitive(uint p, const SlotMap* slots, __global const uchar* indi
   bool finite = load_clip_vertex(shaded, vertex_slot(positions.x, slots, indices, u), &triangle[0]);
   finite &= load_clip_vertex(shaded, vertex_slot(positions.y, slots, indices, u), &triangle[1]);
   finite &= load_clip_vertex(shaded, vertex_slot(positions.z, slots, indices, u), &triangle[2]);
+#if CLR_HAS_FLAT_VARYINGS
+  /* Flat varyings take the provoking vertex's value: the last one (GL_LAST_VERTEX_CONVENTION). */
+  for (int k = 0; k < CLR_NUM_VARYINGS; ++k) {
+    if (clr_varying_interpolation[k] == CLR_INTERPOLATE_FLAT) {
+      triangle[0].varyings[k] = triangle[1].varyings[k] = triangle[2].varyings[k];
+    }
+  }
+#endif
   return finite;
 }
 

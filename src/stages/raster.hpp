@@ -1,10 +1,8 @@
-// Rasterization, depth test, interpolation, shading and blending (kernel in raster.cl): one
+// Rasterization, the fragment program and the per-fragment operations (kernel in raster.cl): one
 // work-group per tile that has triangles binned to it.
 #pragma once
 
-#include "cl/queue.hpp"
-
-#include <CL/opencl.hpp>
+#include "stages/draw_buffers.hpp"
 
 #include <cstdint>
 
@@ -18,10 +16,12 @@ struct RasterParams {
   std::uint32_t tiles_x = 0;
   std::uint32_t tiles_y = 0;
   int tile_size = 0;
-  cl::Buffer color;          // RGBA8 per pixel, row 0 at the bottom
-  cl::Buffer depth;          // float per pixel
-  std::uint32_t width = 0;
+  std::uint32_t width = 0;   // of the framebuffer
   cl::Buffer uniforms;
+  cl::Buffer depth_stencil;  // depth floats, then stencil bytes at stencil_offset (a placeholder: none)
+  std::uint32_t stencil_offset = 0;
+  std::vector<cl::Buffer> colors;  // one per program output (placeholders where no attachment is)
+  const ProgramResources* resources = nullptr;
 };
 
 class RasterStage {

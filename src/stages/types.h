@@ -33,10 +33,10 @@ typedef float clr_float;
 #define CLR_CULL_BACK 1
 #define CLR_CULL_FRONT 2
 
-#define CLR_SHADING_NORMAL 0
-#define CLR_SHADING_LAMBERT 1
-#define CLR_SHADING_DEPTH 2
-#define CLR_SHADING_CONSTANT 3
+/* How a varying float is interpolated (program::Interpolation). */
+#define CLR_INTERPOLATE_SMOOTH 0
+#define CLR_INTERPOLATE_FLAT 1
+#define CLR_INTERPOLATE_NOPERSPECTIVE 2
 
 /* In the order of clraster::CompareFunc (and of GL_NEVER .. GL_ALWAYS). */
 #define CLR_COMPARE_NEVER 0
@@ -48,9 +48,6 @@ typedef float clr_float;
 #define CLR_COMPARE_GEQUAL 6
 #define CLR_COMPARE_ALWAYS 7
 #define CLR_COMPARE_PROGRAM 8 /* the program's depth_test function */
-
-#define CLR_BLEND_REPLACE 0
-#define CLR_BLEND_ADDITIVE 1
 
 /* In the order of clraster::Format. */
 #define CLR_FORMAT_R8 0
@@ -158,31 +155,39 @@ typedef struct {
 
 /* ---- Per-draw constants --------------------------------------------------------------------- */
 typedef struct {
-  clr_float mvp[16];            /* projection * model_view, column-major */
-  clr_float model_view[16];
-  clr_float normal_matrix[9];   /* inverse transpose of model_view's upper 3x3, column-major */
-  clr_float base_color[4];
-  clr_float depth_shading_range[2];
   clr_float viewport_scale[2];  /* window = ndc * scale + offset */
   clr_float viewport_offset[2];
   clr_float guard_min[2];       /* guard-band clip planes, in NDC: guard_min * w <= x, y <= guard_max * w */
   clr_float guard_max[2];
+  clr_float blend_color[4];
   clr_int clip_rect[4];         /* x0, y0, x1, y1 (exclusive): pixels in viewport, scissor and framebuffer */
   clr_int topology;
   clr_int index_size;           /* 0 (non-indexed), 2 or 4 */
   clr_uint first;               /* first element (index or vertex) of the draw */
+  clr_uint instance;            /* the instance being drawn */
   clr_int cull;
   clr_int front_face_ccw;
-  clr_int shading;
-  clr_int depth_test;
-  clr_int depth_func;
+  clr_int depth_test;           /* enabled and there is a depth attachment */
+  clr_int depth_func;           /* CLR_COMPARE_* */
   clr_int depth_write;
-  clr_int blend;
+  clr_int stencil_test;         /* enabled and there is a stencil attachment */
+  clr_int target_format[CLR_MAX_COLOR_ATTACHMENTS]; /* CLR_FORMAT_* of each colour attachment, -1: none */
+  BlendUniforms blend[CLR_MAX_COLOR_ATTACHMENTS];
+  StencilUniforms stencil[2];   /* for front-facing, then back-facing triangles */
 } DrawUniforms;
 
+/* Where a vertex attribute's element i (vertex, or instance when per_instance) is: at byte
+ * offset + i * stride of its buffer. components 0: not supplied, the attribute reads (0, 0, 0, 1). */
+typedef struct {
+  clr_uint offset;
+  clr_uint stride;
+  clr_uint components;
+  clr_uint per_instance;
+} AttributeDesc;
+
 /* ---- Transformed vertices ------------------------------------------------------------------------
- * Two float4 per vertex slot: the clip-space position, then the varyings (w unused). */
-#define CLR_SHADED_VERTEX_FLOAT4S 2
+ * CLR_SHADED_VERTEX_FLOAT4S (generated per program) float4 per vertex slot: the clip-space
+ * position, then the varyings as floats. */
 
 /* Where the vertex stage put the vertex of each stream position, for one chunk (see vertex.cl). */
 typedef struct {
@@ -203,6 +208,7 @@ typedef struct {
  * others index the chunk's per-primitive records (see setup.cl). */
 #define CLR_OVERFLOW_TRIANGLE 0x80000000u
 
+#ifdef CLR_NUM_VARYINGS /* kernel programs generated for a user program (program/generator.cpp) */
 typedef struct {
   clr_long edge_c[3];
   clr_int edge_a[3];
@@ -216,6 +222,7 @@ typedef struct {
   clr_uint pixel_min;                      /* writable pixels in the bounding box: x | y << 16 ... */
   clr_uint pixel_max;                      /* ... to x | y << 16, inclusive */
 } SetupTriangle;
+#endif
 
 /* ---- Counters the host reads back (one small buffer per context) -------------------------------- */
 #define CLR_COUNTER_SCAN_TOTAL 0     /* total of the last scan */

@@ -1,4 +1,4 @@
-// The vertex stage (kernel in vertex.cl): the built-in vertex program, one work-item per slot.
+// The vertex stage (kernel in vertex.cl): the program's vertex function, one work-item per slot.
 #pragma once
 
 #include "stages/draw_buffers.hpp"

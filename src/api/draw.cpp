@@ -1,0 +1,210 @@
+// Framebuffer::draw: resolves a DrawCall's public objects into what the pipeline reads, checking
+// each against the program (attributes, bindings, outputs) before anything is rendered.
+#include "api/errors.hpp"
+#include "api/impl.hpp"
+#include "pipeline/draw_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace clraster {
+namespace {
+
+void check_same_context(const ContextState& framebuffer, const std::shared_ptr<ContextState>& state, const std::string& what) {
+  if (state.get() != &framebuffer) throw InvalidArgument(what + " belongs to another context than the framebuffer");
+}
+
+struct AttributeFormat {
+  const char* scalar;
+  int components;
+};
+
+AttributeFormat attribute_format(AttributeType type) {
+  const int index = static_cast<int>(type);
+  if (index < 0 || index > static_cast<int>(AttributeType::UInt4)) {
+    throw InvalidArgument("attribute type has the invalid value " + std::to_string(index));
+  }
+  static const char* const scalars[] = {"float", "int", "uint"};
+  return {scalars[index / 4], index % 4 + 1};
+}
+
+// The built-in program's uniforms, from the state's shading inputs.
+Bindings builtin_bindings(const Program& program, const DrawState& s) {
+  const int shading = static_cast<int>(s.shading);
+  if (shading < 0 || shading > static_cast<int>(Shading::Constant)) {
+    throw InvalidArgument("shading has the invalid value " + std::to_string(shading));
+  }
+  if (s.shading == Shading::Depth &&
+      !(std::isfinite(s.depth_shading_range[0]) && std::isfinite(s.depth_shading_range[1]) &&
+        s.depth_shading_range[1] > s.depth_shading_range[0])) {
+    throw InvalidArgument("depth shading range [" + std::to_string(s.depth_shading_range[0]) + ", " +
+                          std::to_string(s.depth_shading_range[1]) + "] must be finite with near < far");
+  }
+  const std::array<float, 9> normals = pipeline::normal_matrix(s.model_view);
+  Mat4 normal_matrix{};
+  for (int column = 0; column < 3; ++column) {
+    for (int row = 0; row < 3; ++row) normal_matrix[column * 4 + row] = normals[column * 3 + row];
+  }
+  Bindings b(program);
+  b.set("mvp", pipeline::model_view_projection(s))
+      .set("model_view", s.model_view)
+      .set("normal_matrix", normal_matrix)
+      .set("base_color", s.base_color)
+      .set("depth_range", s.depth_shading_range)
+      .set("shading", std::int32_t{shading});
+  return b;
+}
+
+// Where each attribute the program declares comes from.
+void resolve_attributes(const DrawCall& call, const Program::Impl& program, const ContextState& state,
+                        pipeline::DrawSource& source) {
+  std::vector<VertexAttribute> supplied = call.attributes;
+  std::vector<const Buffer::Impl*> buffers;
+  for (const VertexAttribute& a : supplied) {
+    if (a.buffer == nullptr) throw InvalidArgument("attribute '" + a.name + "' has no buffer");
+    check_same_context(state, a.buffer->impl().state, "the buffer of attribute '" + a.name + "'");
+  }
+  if (call.vertices != nullptr) {
+    const VertexBuffer::Impl& vertices = call.vertices->impl();
+    check_same_context(state, vertices.state, "vertex buffer");
+    supplied.push_back({"position", &*vertices.positions, AttributeType::Float3});
+    if (vertices.normals) supplied.push_back({"normal", &*vertices.normals, AttributeType::Float3});
+  }
+  const auto& declared = program.parsed.interface.attributes;
+  for (const ProgramVariable& attribute : declared) {
+    const auto found = std::find_if(supplied.begin(), supplied.end(), [&](const VertexAttribute& a) { return a.name == attribute.name; });
+    AttributeDesc desc{};
+    if (found == supplied.end()) {
+      // A vertex buffer without normals reads zero normals, as before programs existed.
+      if (!(attribute.name == "normal" && call.vertices != nullptr)) {
+        throw InvalidArgument("attribute '" + attribute.name + "' of program " + program.file_name + " (line " +
+                              std::to_string(attribute.line) + ") is not supplied by the draw");
+      }
+      source.attribute_buffers.push_back(call.vertices->impl().positions->impl().buffer);
+      source.attributes.push_back(desc);
+      continue;
+    }
+    const AttributeFormat format = attribute_format(found->type);
+    const program::VectorType wanted = program::vector_type(attribute.type);
+    if (wanted.scalar != format.scalar) {
+      throw InvalidArgument("attribute '" + attribute.name + "' is declared " + attribute.type + " but supplied as " +
+                            format.scalar + " data");
+    }
+    const std::size_t element = 4 * static_cast<std::size_t>(format.components);
+    const std::size_t stride = found->stride == 0 ? element : found->stride;
+    const std::size_t bytes = found->buffer->impl().bytes;
+    if (found->offset % 4 != 0 || stride % 4 != 0 || stride > 0xffffffffu || found->offset > 0xffffffffu) {
+      throw InvalidArgument("attribute '" + attribute.name + "' needs an offset and stride that are multiples of 4 bytes (got " +
+                            std::to_string(found->offset) + " and " + std::to_string(stride) + ")");
+    }
+    const std::uint64_t elements = found->offset + element > bytes ? 0 : (bytes - found->offset - element) / stride + 1;
+    desc = {static_cast<cl_uint>(found->offset), static_cast<cl_uint>(stride), static_cast<cl_uint>(format.components),
+            found->per_instance ? 1u : 0u};
+    std::uint64_t& limit = found->per_instance ? source.instance_limit : source.vertex_limit;
+    limit = std::min(limit, elements);
+    source.attribute_buffers.push_back(found->buffer->impl().buffer);
+    source.attributes.push_back(desc);
+  }
+  for (const VertexAttribute& a : supplied) {
+    const bool known = std::any_of(declared.begin(), declared.end(), [&](const ProgramVariable& v) { return v.name == a.name; });
+    if (!known && !(call.vertices != nullptr && (a.name == "position" || a.name == "normal"))) {
+      throw InvalidArgument("program " + program.file_name + " declares no attribute '" + a.name + "'");
+    }
+  }
+}
+
+void resolve_bindings(const Bindings::Impl& bindings, const Program::Impl& program, pipeline::DrawSource& source) {
+  const ProgramInterface& in = program.parsed.interface;
+  for (std::size_t i = 0; i < in.uniforms.size(); ++i) {
+    if (!bindings.uniform_set[i]) {
+      throw InvalidArgument("uniform '" + in.uniforms[i].name + "' of program " + program.file_name + " (line " +
+                            std::to_string(in.uniforms[i].line) + ") is not set");
+    }
+  }
+  source.uniforms = bindings.uniforms;
+  for (std::size_t i = 0; i < in.textures.size(); ++i) {
+    const auto& bound = bindings.textures[i];
+    if (bound.texture == nullptr) {
+      throw InvalidArgument("texture '" + in.textures[i].name + "' of program " + program.file_name + " (line " +
+                            std::to_string(in.textures[i].line) + ") is not bound");
+    }
+    source.textures.push_back(bound.texture->data);
+    source.texture_descs.push_back(bound.texture->describe(bound.sampler));
+  }
+  for (std::size_t i = 0; i < in.buffers.size(); ++i) {
+    if (bindings.buffers[i] == nullptr) {
+      throw InvalidArgument("buffer '" + in.buffers[i].name + "' of program " + program.file_name + " (line " +
+                            std::to_string(in.buffers[i].line) + ") is not bound");
+    }
+    source.buffers.push_back(bindings.buffers[i]->buffer);
+  }
+}
+
+}  // namespace
+
+DrawStats Framebuffer::draw(const DrawCall& call) {
+  ContextState& state = *impl_->state;
+  return translate_cl_errors([&] {
+    const Program& program = call.program != nullptr ? *call.program : state.builtin_program();
+    Program::Impl& compiled = program.impl();
+    check_same_context(state, compiled.state, "program " + compiled.file_name);
+    std::optional<Bindings> builtin;
+    const Bindings* bindings = call.bindings;
+    if (call.program == nullptr) {
+      if (bindings != nullptr) throw InvalidArgument("a draw with bindings needs the program they are for");
+      bindings = &builtin.emplace(builtin_bindings(program, call.state));
+    }
+    const ProgramInterface& in = compiled.parsed.interface;
+    const bool declares_resources = !in.uniforms.empty() || !in.textures.empty() || !in.buffers.empty();
+    if (bindings == nullptr && declares_resources) {
+      throw InvalidArgument("program " + compiled.file_name + " declares uniforms, textures or buffers but the draw has no bindings");
+    }
+    if (bindings != nullptr && bindings->impl().program != &compiled) {
+      throw InvalidArgument("the draw's bindings were made for another program than " + compiled.file_name);
+    }
+
+    pipeline::DrawSource source;
+    source.program = &compiled.parsed;
+    if (!compiled.stages) compiled.stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort());
+    source.stages = compiled.stages.get();
+    resolve_attributes(call, compiled, state, source);
+    if (bindings != nullptr) resolve_bindings(bindings->impl(), compiled, source);
+    for (std::size_t k = 0; k < in.outputs.size() && k < impl_->colors.size(); ++k) {
+      const FormatInfo& format = format_info(impl_->colors[k]->format());
+      const std::string& type = in.outputs[k].type;
+      const bool matches = type == "float4" ? !format.integer : type == "int4" ? format.integer && format.is_signed
+                                                                                : format.integer && !format.is_signed;
+      if (!matches) {
+        throw InvalidArgument("output '" + in.outputs[k].name + "' of program " + compiled.file_name + " is " + type +
+                              " but colour attachment " + std::to_string(k) + " is " + format.name);
+      }
+    }
+    if (call.indices != nullptr) {
+      IndexBuffer::Impl& indices = call.indices->impl();
+      check_same_context(state, indices.state, "index buffer");
+      source.indices = indices.indices;
+      source.index_size = indices.index_size;
+      source.index_cache = &indices.range_cache;
+      source.index_count = indices.count;
+    }
+    source.instance_count = call.instance_count;
+
+    pipeline::RenderTarget target;
+    target.width = impl_->width;
+    target.height = impl_->height;
+    for (Texture* color : impl_->colors) {
+      target.colors.push_back(color->impl().data);
+      target.formats.push_back(static_cast<int>(color->format()));
+    }
+    if (impl_->depth_stencil != nullptr) {
+      const Texture::Impl& depth = impl_->depth_stencil->impl();
+      target.depth_stencil = depth.data;
+      target.has_stencil = format_info(depth.format).stencil;
+      target.stencil_offset = depth.describe().stencil_offset;
+    }
+    return state.get_pipeline().draw(target, source, call.first, call.count, call.state);
+  });
+}
+
+}  // namespace clraster

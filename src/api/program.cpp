@@ -1,0 +1,189 @@
+#include "api/errors.hpp"
+#include "api/impl.hpp"
+#include "program/generator.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace clraster {
+namespace {
+
+bool is_diagnostic(const std::string& line) {
+  return line.find(": error:") != std::string::npos || line.find(": warning:") != std::string::npos ||
+         line.find(": note:") != std::string::npos;
+}
+
+// The compiler's errors, each with the source line and caret clang prints under it. Errors in the
+// user's file come first, in the usual FILE:LINE:COLUMN: form, since the generated program puts
+// the user's source under #line 1 "file_name".
+std::string compile_errors(const std::string& log, const std::string& file_name) {
+  std::istringstream lines(log);
+  std::string line, user, other;
+  std::string* block = nullptr;
+  while (std::getline(lines, line)) {
+    if (is_diagnostic(line)) {
+      block = line.find(": error:") == std::string::npos ? nullptr : line.starts_with(file_name + ":") ? &user : &other;
+    }
+    if (block != nullptr) *block += line + "\n";
+  }
+  std::string errors = user.empty() ? other : user;
+  if (errors.empty()) errors = log;  // not clang's format: show the whole log
+  while (!errors.empty() && errors.back() == '\n') errors.pop_back();
+  return errors;
+}
+
+std::size_t element_bytes(const ProgramVariable& u) {
+  const program::VectorType vector = program::vector_type(u.type);
+  // What the user passes per element: the declared components (a float3 takes 12 bytes).
+  if (vector.components != 0) return 4u * static_cast<unsigned>(vector.components);
+  return u.bytes / static_cast<std::size_t>(std::max(u.array_size, 1));
+}
+
+// The room one element takes in the uniform block (three components take four).
+std::size_t element_stride(const ProgramVariable& u) { return u.bytes / static_cast<std::size_t>(std::max(u.array_size, 1)); }
+
+std::string scalar_of(const std::string& type) {
+  for (const char* scalar : {"float", "uint", "int"}) {
+    if (type.starts_with(scalar)) return scalar;
+  }
+  return type;
+}
+
+template <typename Variables>
+std::size_t find(const Variables& variables, const std::string& name, const char* kind, const std::string& file) {
+  for (std::size_t i = 0; i < variables.size(); ++i) {
+    if (variables[i].name == name) return i;
+  }
+  throw InvalidArgument("program " + file + " declares no " + kind + " '" + name + "'");
+}
+
+}  // namespace
+
+std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextState>& state, const std::string& source,
+                                               const std::string& file_name) {
+  auto impl = std::make_unique<Program::Impl>();
+  impl->state = state;
+  impl->file_name = file_name;
+  impl->parsed = program::parse_program(source, file_name);
+  const std::string text = program::generate_stage_program(impl->parsed, source, file_name);
+  try {
+    impl->program = translate_cl_errors([&] { return state->programs.get(file_name, text, state->build_options()); });
+  } catch (const BuildError& error) {
+    throw BuildError("program " + file_name + " failed to compile:\n" + compile_errors(error.log(), file_name),
+                     error.log());
+  }
+  return impl;
+}
+
+Program::Program(Context& context, std::string source, std::string file_name)
+    : impl_(compile_program(context.impl().state, source, file_name)) {}
+Program::Program(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Program Program::load(Context& context, const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InvalidArgument("cannot open program file " + path + ": " + std::strerror(errno));
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw InvalidArgument("cannot read program file " + path);
+  return Program(context, text.str(), path);
+}
+
+Program::~Program() = default;
+Program::Program(Program&&) noexcept = default;
+Program& Program::operator=(Program&&) noexcept = default;
+const std::string& Program::file_name() const { return impl_->file_name; }
+const ProgramInterface& Program::interface() const { return impl_->parsed.interface; }
+
+// ---- Bindings ---------------------------------------------------------------------------------
+
+Bindings::Bindings(const Program& program) : impl_(std::make_unique<Impl>()) {
+  const ProgramInterface& in = program.interface();
+  impl_->program = &program.impl();
+  impl_->uniforms.assign(in.uniform_bytes, std::byte{0});
+  impl_->uniform_set.assign(in.uniforms.size(), false);
+  impl_->textures.resize(in.textures.size());
+  impl_->buffers.assign(in.buffers.size(), nullptr);
+}
+Bindings::~Bindings() = default;
+Bindings::Bindings(const Bindings& other) : impl_(std::make_unique<Impl>(*other.impl_)) {}
+Bindings& Bindings::operator=(const Bindings& other) {
+  *impl_ = *other.impl_;
+  return *this;
+}
+Bindings::Bindings(Bindings&&) noexcept = default;
+Bindings& Bindings::operator=(Bindings&&) noexcept = default;
+
+Bindings& Bindings::set_bytes(const std::string& name, std::span<const std::byte> bytes, int element) {
+  const Program::Impl& program = *impl_->program;
+  const auto& uniforms = program.parsed.interface.uniforms;
+  const std::size_t index = find(uniforms, name, "uniform", program.file_name);
+  const ProgramVariable& u = uniforms[index];
+  const std::size_t elements = static_cast<std::size_t>(std::max(u.array_size, 1));
+  const std::size_t size = element_bytes(u);
+  if (element < 0 || static_cast<std::size_t>(element) >= elements) {
+    throw InvalidArgument("uniform '" + name + "' has " + std::to_string(elements) + " element(s); element " +
+                          std::to_string(element) + " does not exist");
+  }
+  const std::size_t available = elements - static_cast<std::size_t>(element);
+  if (bytes.empty() || bytes.size() % size != 0 || bytes.size() / size > available) {
+    throw InvalidArgument("uniform '" + name + "' is " + u.type + (u.array_size ? "[" + std::to_string(u.array_size) + "]" : "") +
+                          ": expected a multiple of " + std::to_string(size) + " bytes for at most " +
+                          std::to_string(available) + " element(s), got " + std::to_string(bytes.size()) + " bytes");
+  }
+  for (std::size_t i = 0; i < bytes.size() / size; ++i) {
+    std::memcpy(impl_->uniforms.data() + u.offset + (static_cast<std::size_t>(element) + i) * element_stride(u),
+                bytes.data() + i * size, size);
+  }
+  impl_->uniform_set[index] = true;
+  return *this;
+}
+
+namespace {
+
+void check_scalar(const Program::Impl& program, const std::string& name, const char* scalar) {
+  const auto& uniforms = program.parsed.interface.uniforms;
+  const ProgramVariable& u = uniforms[find(uniforms, name, "uniform", program.file_name)];
+  if (scalar_of(u.type) != scalar) {
+    throw InvalidArgument("uniform '" + name + "' is " + u.type + ", not " + scalar + " data");
+  }
+}
+
+}  // namespace
+
+Bindings& Bindings::set(const std::string& name, float value) {
+  check_scalar(*impl_->program, name, "float");
+  return set_bytes(name, std::as_bytes(std::span<const float>(&value, 1)));
+}
+Bindings& Bindings::set(const std::string& name, std::int32_t value) {
+  check_scalar(*impl_->program, name, "int");
+  return set_bytes(name, std::as_bytes(std::span<const std::int32_t>(&value, 1)));
+}
+Bindings& Bindings::set(const std::string& name, std::uint32_t value) {
+  check_scalar(*impl_->program, name, "uint");
+  return set_bytes(name, std::as_bytes(std::span<const std::uint32_t>(&value, 1)));
+}
+
+Bindings& Bindings::set_texture(const std::string& name, const Texture& texture, const Sampler& sampler) {
+  const Program::Impl& program = *impl_->program;
+  const std::size_t index = find(program.parsed.interface.textures, name, "texture", program.file_name);
+  if (texture.impl().state != program.state) throw InvalidArgument("texture '" + name + "' belongs to another context than the program");
+  const FormatInfo& info = format_info(texture.format());
+  if (info.integer && (sampler.mag_filter != Filter::Nearest || sampler.min_filter != Filter::Nearest ||
+                       sampler.mip_filter == MipFilter::Linear)) {
+    throw InvalidArgument("texture '" + name + "' has the integer format " + info.name +
+                          ", which cannot be filtered: use a Nearest sampler and read it with clr_texel_fetch");
+  }
+  impl_->textures[index] = {&texture.impl(), sampler};
+  return *this;
+}
+
+Bindings& Bindings::set_buffer(const std::string& name, const Buffer& buffer) {
+  const Program::Impl& program = *impl_->program;
+  const std::size_t index = find(program.parsed.interface.buffers, name, "buffer", program.file_name);
+  if (buffer.impl().state != program.state) throw InvalidArgument("buffer '" + name + "' belongs to another context than the program");
+  impl_->buffers[index] = &buffer.impl();
+  return *this;
+}
+
+}  // namespace clraster

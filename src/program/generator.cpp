@@ -1,0 +1,233 @@
+#include "program/generator.hpp"
+
+#include "cl/kernel_sources.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+namespace clraster::program {
+namespace {
+
+// Varyings travel as at least one float: OpenCL C has no empty arrays.
+std::size_t varying_float_count(const ParsedProgram& p) { return std::max<std::size_t>(p.varying_floats.size(), 1); }
+
+const char* const kComponent[] = {".s0", ".s1", ".s2", ".s3"};
+
+// Member `name` of `object`, component c of `components` (scalars have none).
+std::string component(const std::string& access, int components, int c) {
+  return components == 1 ? access : access + kComponent[c];
+}
+
+// A struct of the given members, or of one placeholder (C has no empty structs).
+void emit_struct(std::ostringstream& out, const char* type_name, const std::vector<std::string>& members) {
+  out << "typedef struct {\n";
+  if (members.empty()) out << "  int clr_none;\n";
+  for (const std::string& member : members) out << "  " << member << ";\n";
+  out << "} " << type_name << ";\n\n";
+}
+
+std::string buffer_pointer_type(const ProgramVariable& b) { return "__global " + b.type + "*"; }
+
+void emit_constants(std::ostringstream& out, const ParsedProgram& p) {
+  const ProgramInterface& in = p.interface;
+  out << "/* Generated for this program by clraster (program/generator.cpp). */\n"
+      << "#define CLR_NUM_VARYINGS " << varying_float_count(p) << "\n"
+      << "#define CLR_SHADED_VERTEX_FLOAT4S " << 1 + (varying_float_count(p) + 3) / 4 << "\n"
+      << "#define CLR_NUM_OUTPUTS " << in.outputs.size() << "\n"
+      << "#define CLR_QUAD_SHADING " << (in.uses_derivatives ? 1 : 0) << "\n"
+      << "#define CLR_EARLY_TESTS " << (early_fragment_tests(p) ? 1 : 0) << "\n";
+  bool flat = false;
+  for (const Interpolation mode : p.varying_floats) flat = flat || mode == Interpolation::Flat;
+  out << "#define CLR_HAS_FLAT_VARYINGS " << (flat ? 1 : 0) << "\n";
+}
+
+void emit_interface(std::ostringstream& out, const ParsedProgram& p) {
+  const ProgramInterface& in = p.interface;
+  std::vector<std::string> members;
+  for (const ProgramVariable& a : in.attributes) members.push_back(a.type + " " + a.name);
+  emit_struct(out, "clr_attributes", members);
+  members.clear();
+  for (const ProgramVariable& v : in.varyings) members.push_back(v.type + " " + v.name);
+  emit_struct(out, "clr_varyings", members);
+  members.clear();
+  for (const ProgramVariable& u : in.uniforms) {
+    members.push_back(u.type + " " + u.name + (u.array_size ? "[" + std::to_string(u.array_size) + "]" : ""));
+  }
+  emit_struct(out, "clr_uniforms", members);
+  members.clear();
+  for (const ProgramVariable& t : in.textures) members.push_back("clr_texture " + t.name);
+  emit_struct(out, "clr_textures", members);
+  members.clear();
+  for (const ProgramVariable& b : in.buffers) members.push_back(buffer_pointer_type(b) + " " + b.name);
+  emit_struct(out, "clr_buffers", members);
+  members.clear();
+  for (const ProgramVariable& o : in.outputs) members.push_back(o.type + " " + o.name);
+  emit_struct(out, "clr_outputs", members);
+
+  out << R"(/* What the vertex program reads and writes. */
+typedef struct {
+  uint vertex_id;        /* the index (indexed draws) or first + position (non-indexed) */
+  uint instance_id;
+  clr_attributes in;
+  float4 position;       /* out: clip-space position */
+  clr_varyings out;      /* out: interpolated for the fragment program */
+  __constant const clr_uniforms* uniforms;
+  clr_textures textures;
+  clr_buffers buffers;
+} clr_vertex;
+
+/* What the fragment program reads and writes. */
+typedef struct {
+  clr_varyings in;
+  float4 frag_coord;     /* window x, y of the pixel centre, depth z, and 1 / clip w */
+  float3 barycentric;    /* perspective-correct weights of the triangle's three vertices */
+  float frag_depth;      /* out: the depth tested and written; starts as frag_coord.z */
+  uint primitive_id;     /* the primitive's index in the draw (per instance) */
+  bool front_facing;
+  bool helper;           /* a helper invocation of quad shading: its results are thrown away */
+  bool discarded;        /* set by clr_discard */
+  clr_outputs out;       /* out: one value per colour attachment */
+  __constant const clr_uniforms* uniforms;
+  clr_textures textures;
+  clr_buffers buffers;
+  /* The pipeline's: */
+  __local float4* clr_quad;        /* derivative exchange, one slot per work-item of the tile */
+  __local const uint4* clr_tile;   /* the tile's colour attachments, for framebuffer fetch */
+  __constant const DrawUniforms* clr_draw;
+  uint clr_lane;                   /* this pixel's work-item in the tile */
+} clr_fragment;
+
+/* Defined by the generated glue at the end of the program. */
+void clr_store_varyings(const clr_varyings* v, __global float* out);
+void clr_interpolate_varyings(const __local SetupTriangle* t, float3 pw, float norm, float3 l, clr_varyings* v);
+bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_depth);
+float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 destination);
+void clr_write_outputs(clr_fragment* f, __local uint4* tile, uint lane, __constant const DrawUniforms* u);
+
+)";
+
+  // Resources travel as kernel parameters after each stage kernel's own.
+  out << "#define CLR_RESOURCE_PARAMS , __constant const clr_uniforms* clr_uniform_block, "
+         "__constant const TextureDesc* clr_texture_descs";
+  for (std::size_t i = 0; i < in.textures.size(); ++i) out << ", __global const uchar* clr_texture_" << i;
+  for (std::size_t i = 0; i < in.buffers.size(); ++i) out << ", " << buffer_pointer_type(in.buffers[i]) << " clr_buffer_" << i;
+  out << "\n#define CLR_BIND_RESOURCES(target) do { (target).uniforms = clr_uniform_block;";
+  for (std::size_t i = 0; i < in.textures.size(); ++i) {
+    out << " (target).textures." << in.textures[i].name << ".data = clr_texture_" << i << "; (target).textures."
+        << in.textures[i].name << ".desc = clr_texture_descs + " << i << ";";
+  }
+  for (std::size_t i = 0; i < in.buffers.size(); ++i) out << " (target).buffers." << in.buffers[i].name << " = clr_buffer_" << i << ";";
+  out << " } while (0)\n";
+  out << "#define CLR_ATTRIBUTE_PARAMS , __constant const AttributeDesc* clr_attribute_descs";
+  for (std::size_t i = 0; i < in.attributes.size(); ++i) out << ", __global const uchar* clr_attribute_" << i;
+  out << "\n#define CLR_FETCH_ATTRIBUTES(attributes, vertex, instance) do {";
+  for (std::size_t i = 0; i < in.attributes.size(); ++i) {
+    const ProgramVariable& a = in.attributes[i];
+    const VectorType vector = vector_type(a.type);
+    const char* swizzle[] = {"", ".x", ".xy", ".xyz", ""};
+    out << " (attributes)." << a.name << " = clr_fetch_" << vector.scalar << "(clr_attribute_descs + " << i
+        << ", clr_attribute_" << i << ", vertex, instance)" << swizzle[vector.components] << ";";
+  }
+  out << " } while (0)\n";
+  out << "#define CLR_TARGET_PARAMS";
+  for (std::size_t i = 0; i < in.outputs.size(); ++i) out << ", __global uchar* clr_color_" << i;
+  out << "\n#define CLR_TARGETS {";
+  for (std::size_t i = 0; i < in.outputs.size(); ++i) out << (i ? ", " : " ") << "clr_color_" << i;
+  out << " }\n\n";
+
+  out << "/* How each varying float is interpolated (CLR_INTERPOLATE_*). */\n"
+      << "__constant uchar clr_varying_interpolation[CLR_NUM_VARYINGS] = {";
+  if (p.varying_floats.empty()) out << "0";
+  for (std::size_t i = 0; i < p.varying_floats.size(); ++i) out << (i ? ", " : "") << static_cast<int>(p.varying_floats[i]);
+  out << "};\n\n";
+}
+
+// Functions the stages call that depend on the interface: packing varyings into floats and back,
+// calling the optional depth_test and blend functions, and merging the outputs into the tile.
+void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
+  const ProgramInterface& in = p.interface;
+  out << "/* ---- Generated glue ---- */\n"
+      << "void clr_store_varyings(const clr_varyings* v, __global float* out) {\n";
+  for (const ProgramVariable& v : in.varyings) {
+    const VectorType vector = vector_type(v.type);
+    for (int c = 0; c < vector.components; ++c) {
+      const std::string value = component("v->" + v.name, vector.components, c);
+      out << "  out[" << v.offset + static_cast<std::size_t>(c) << "] = "
+          << (vector.scalar == "float" ? value : "as_float(" + value + ")") << ";\n";
+    }
+  }
+  out << "}\n\n"
+      << "/* pw: the vertices' screen-space weights divided by their w, norm: 1 / their sum; l: screen-space\n"
+      << " * weights. Flat varyings hold the provoking vertex's value in all three vertices. */\n"
+      << "void clr_interpolate_varyings(const __local SetupTriangle* t, float3 pw, float norm, float3 l, "
+         "clr_varyings* v) {\n";
+  for (const ProgramVariable& v : in.varyings) {
+    const VectorType vector = vector_type(v.type);
+    for (int c = 0; c < vector.components; ++c) {
+      const std::size_t j = v.offset + static_cast<std::size_t>(c);
+      out << "  " << component("v->" + v.name, vector.components, c) << " = ";
+      if (v.interpolation == "flat") {
+        out << (vector.scalar == "float" ? "" : "as_" + vector.scalar + "(") << "t->varyings[0][" << j << "]"
+            << (vector.scalar == "float" ? "" : ")") << ";\n";
+      } else if (v.interpolation == "noperspective") {
+        out << "clr_weighted_varying(t, " << j << ", l);\n";
+      } else {
+        out << "clr_weighted_varying(t, " << j << ", pw) * norm;\n";
+      }
+    }
+  }
+  out << "}\n\n";
+
+  out << "bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_depth) {\n"
+      << (in.has_depth_test ? "  return depth_test(f, fragment_depth, stored_depth);\n" : "  return true;\n")
+      << "}\n\n"
+      << "float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 destination) {\n"
+      << (in.has_blend ? "  return blend(f, target, source, destination);\n" : "  return source;\n") << "}\n\n"
+      << "void clr_write_outputs(clr_fragment* f, __local uint4* tile, uint lane, __constant const DrawUniforms* u) {\n";
+  for (std::size_t k = 0; k < in.outputs.size(); ++k) {
+    const ProgramVariable& o = in.outputs[k];
+    if (o.type == "float4") {
+      out << "  clr_merge_float_output(f, " << k << ", f->out." << o.name << ", tile, lane, u);\n";
+    } else {
+      out << "  clr_merge_integer_output(" << k << ", as_uint4(f->out." << o.name << "), tile, lane, u);\n";
+    }
+  }
+  out << "}\n";
+}
+
+}  // namespace
+
+bool early_fragment_tests(const ParsedProgram& p) {
+  return !p.may_discard && !p.writes_depth && !p.interface.uses_derivatives;
+}
+
+std::size_t shaded_vertex_bytes(const ParsedProgram& p) { return 16 * (1 + (varying_float_count(p) + 3) / 4); }
+
+std::size_t setup_triangle_bytes(const ParsedProgram& p) {
+  // SetupTriangle (types.h): 92 bytes of fixed fields and 3 vertices' varyings, padded to its
+  // 8-byte alignment. Checked against the compiler by a kernel test.
+  return (92 + 12 * varying_float_count(p) + 7) / 8 * 8;
+}
+
+std::string generate_stage_program(const ParsedProgram& p, const std::string& user_source, const std::string& file_name) {
+  std::ostringstream out;
+  emit_constants(out, p);
+  out << cl_sources::compose({"clr_limits.h", "stages/types.h", "resources/index_range.cl", "resources/format.cl", "resources/texture.cl",
+                              "stages/fragment_ops.cl", "program/library/blend_modes.cl"});
+  out << "#line 1 \"<clraster generated interface>\"\n";
+  emit_interface(out, p);
+  out << cl_sources::compose({"program/prelude.cl"});
+  std::string quoted;
+  for (const char c : file_name) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    if (c != '\n') quoted += c;
+  }
+  out << "#line 1 \"" << quoted << "\"\n" << user_source << "\n";
+  out << cl_sources::compose({"stages/vertex.cl", "stages/clip.cl", "stages/fixed_point.cl", "stages/primitive.cl",
+                              "stages/setup.cl", "stages/bin.cl", "stages/raster.cl"});
+  out << "#line 1 \"<clraster generated glue>\"\n";
+  emit_glue(out, p);
+  return out.str();
+}
+
+}  // namespace clraster::program

@@ -1,0 +1,31 @@
+// Generates the OpenCL C program that runs a user program through every pipeline stage:
+//
+//   generated constants (varying and output counts, quad shading, early tests)
+//   clr_limits.h, types.h, texel formats, texture sampling, fragment operations, blend modes
+//   generated interface: clr_attributes, clr_varyings, clr_uniforms, clr_textures, clr_buffers,
+//     clr_outputs, clr_vertex, clr_fragment, the resource kernel parameters, glue prototypes
+//   program/prelude.cl: what programs call (clr_mul, derivatives, clr_sample, clr_discard, ...)
+//   #line 1 "<user file>" + the user's source, so compiler messages name the user's lines
+//   the stage kernels: vertex.cl ... raster.cl
+//   generated glue: attribute fetch, varying packing and interpolation, output merging
+#pragma once
+
+#include "program/interface.hpp"
+
+#include <string>
+
+namespace clraster::program {
+
+std::string generate_stage_program(const ParsedProgram& program, const std::string& user_source,
+                                   const std::string& file_name);
+
+// Whether the depth and stencil tests may run before the fragment program: it neither discards nor
+// writes depth (OpenGL's early fragment tests), and it is not shaded in quads (whose helper
+// invocations must run the program whatever the tests say).
+bool early_fragment_tests(const ParsedProgram& program);
+
+// Bytes the vertex stage stores per vertex, and one set-up triangle's record, for this program.
+std::size_t shaded_vertex_bytes(const ParsedProgram& program);
+std::size_t setup_triangle_bytes(const ParsedProgram& program);
+
+}  // namespace clraster::program

@@ -1,0 +1,271 @@
+#include "program/interface.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <regex>
+#include <set>
+
+namespace clraster::program {
+namespace {
+
+// The source with comments, string and character literals blanked out (newlines kept), so that
+// line numbers stay right and nothing inside a comment counts as a declaration.
+std::string code_only(const std::string& source) {
+  std::string out = source;
+  enum { Code, Line, Block, String, Char } state = Code;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const char c = out[i];
+    const char next = i + 1 < out.size() ? out[i + 1] : '\0';
+    switch (state) {
+      case Code:
+        if (c == '/' && next == '/') state = Line, out[i] = ' ';
+        else if (c == '/' && next == '*') state = Block, out[i] = ' ', out[++i] = ' ';
+        else if (c == '"') state = String;
+        else if (c == '\'') state = Char;
+        break;
+      case Line:
+        if (c == '\n') state = Code; else out[i] = ' ';
+        break;
+      case Block:
+        if (c == '*' && next == '/') state = Code, out[i] = ' ', out[++i] = ' ';
+        else if (c != '\n') out[i] = ' ';
+        break;
+      case String:
+      case Char:
+        if (c == '\\') { out[i] = ' '; if (next != '\n' && i + 1 < out.size()) out[++i] = ' '; }
+        else if (c == (state == String ? '"' : '\'')) state = Code;
+        else if (c != '\n') out[i] = ' ';
+        break;
+    }
+  }
+  return out;
+}
+
+bool is_identifier(const std::string& name) {
+  static const std::regex identifier("[A-Za-z_][A-Za-z0-9_]*");
+  return std::regex_match(name, identifier);
+}
+
+std::string trim(const std::string& text) {
+  const auto begin = text.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return "";
+  return text.substr(begin, text.find_last_not_of(" \t\r\n") - begin + 1);
+}
+
+// Collapses runs of white space, so "const   float4" reads as "const float4".
+std::string normalize_spaces(const std::string& text) {
+  std::string out;
+  for (const char c : trim(text)) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+class Parser {
+ public:
+  Parser(const std::string& source, std::string file_name) : code_(code_only(source)), file_(std::move(file_name)) {}
+
+  ParsedProgram parse() {
+    scan_declarations();
+    find_entry_points();
+    ParsedProgram& p = result_;
+    const auto mentions = [&](const char* token) { return std::regex_search(code_, std::regex(std::string("\\b") + token + "\\b")); };
+    p.interface.uses_derivatives = mentions("clr_dfdx") || mentions("clr_dfdy") || mentions("clr_dfdx_fine") ||
+                                   mentions("clr_dfdy_fine") || mentions("clr_dfdx_coarse") ||
+                                   mentions("clr_dfdy_coarse") || mentions("clr_fwidth") || mentions("clr_sample");
+    p.may_discard = mentions("clr_discard");
+    p.writes_depth = mentions("frag_depth");
+    return p;
+  }
+
+ private:
+  [[noreturn]] void fail(int line, const std::string& message) const {
+    throw InvalidArgument(file_ + ":" + std::to_string(line) + ": " + message);
+  }
+
+  int line_of(std::size_t position) const {
+    return 1 + static_cast<int>(std::count(code_.begin(), code_.begin() + static_cast<std::ptrdiff_t>(position), '\n'));
+  }
+
+  // Walks the code at brace depth 0 looking for declaration macros.
+  void scan_declarations() {
+    static const std::regex declaration(
+        "\\b(clr_attribute|clr_varying_flat|clr_varying_noperspective|clr_varying|clr_uniform|clr_texture|clr_buffer|"
+        "clr_output)\\s*\\(");
+    int depth = 0;
+    std::size_t depth_checked = 0;
+    for (auto it = std::sregex_iterator(code_.begin(), code_.end(), declaration); it != std::sregex_iterator(); ++it) {
+      const std::size_t at = static_cast<std::size_t>(it->position());
+      for (; depth_checked < at; ++depth_checked) {
+        if (code_[depth_checked] == '{') ++depth;
+        if (code_[depth_checked] == '}') --depth;
+      }
+      const int line = line_of(at);
+      if (depth != 0) fail(line, (*it)[1].str() + " must be declared at file scope, outside any function");
+      const std::size_t open = at + static_cast<std::size_t>(it->length());
+      const std::size_t close = code_.find(')', open);
+      if (close == std::string::npos) fail(line, "unterminated " + (*it)[1].str() + "(");
+      std::vector<std::string> arguments;
+      std::string current;
+      for (std::size_t i = open; i < close; ++i) {
+        if (code_[i] == ',') arguments.push_back(normalize_spaces(current)), current.clear();
+        else current += code_[i];
+      }
+      arguments.push_back(normalize_spaces(current));
+      declare((*it)[1].str(), arguments, line);
+    }
+  }
+
+  void expect_arguments(const std::string& kind, const std::vector<std::string>& arguments, std::size_t count,
+                        const char* form, int line) const {
+    if (arguments.size() != count) fail(line, kind + " takes " + form);
+  }
+
+  void check_name(const std::string& kind, const std::string& name, const std::vector<ProgramVariable>& existing,
+                  int line) const {
+    if (!is_identifier(name)) fail(line, kind + " name '" + name + "' is not an identifier");
+    for (const ProgramVariable& v : existing) {
+      if (v.name == name) fail(line, kind + " '" + name + "' is already declared on line " + std::to_string(v.line));
+    }
+  }
+
+  void declare(const std::string& kind, const std::vector<std::string>& arguments, int line) {
+    ProgramInterface& in = result_.interface;
+    ProgramVariable v;
+    v.line = line;
+    if (kind == "clr_texture") {
+      expect_arguments(kind, arguments, 1, "one argument: (name)", line);
+      v.name = arguments[0];
+      v.type = "texture";
+      check_name("texture", v.name, in.textures, line);
+      in.textures.push_back(v);
+      return;
+    }
+    expect_arguments(kind, arguments, 2, "two arguments: (type, name)", line);
+    v.type = arguments[0];
+    v.name = arguments[1];
+    const VectorType vector = vector_type(v.type);
+    if (kind == "clr_attribute") {
+      if (vector.components == 0) fail(line, "attribute type '" + v.type + "' is not a float, int or uint vector of 1 to 4 components");
+      check_name("attribute", v.name, in.attributes, line);
+      in.attributes.push_back(v);
+    } else if (kind.starts_with("clr_varying")) {
+      declare_varying(kind, v, vector);
+    } else if (kind == "clr_uniform") {
+      declare_uniform(v);
+    } else if (kind == "clr_buffer") {
+      std::string element = v.type;
+      v.writable = !element.starts_with("const ");
+      if (!v.writable) element = element.substr(6);
+      if (!is_identifier(element)) fail(line, "buffer element type '" + v.type + "' must be a type name, optionally after const");
+      check_name("buffer", v.name, in.buffers, line);
+      in.buffers.push_back(v);
+    } else {  // clr_output
+      if (v.type != "float4" && v.type != "int4" && v.type != "uint4") {
+        fail(line, "output type '" + v.type + "' is not float4, int4 or uint4");
+      }
+      check_name("output", v.name, in.outputs, line);
+      if (in.outputs.size() == kMaxColorAttachments) {
+        fail(line, "more than " + std::to_string(kMaxColorAttachments) + " outputs (one per colour attachment)");
+      }
+      in.outputs.push_back(v);
+    }
+  }
+
+  void declare_varying(const std::string& kind, ProgramVariable& v, const VectorType& vector) {
+    if (vector.components == 0) fail(v.line, "varying type '" + v.type + "' is not a float, int or uint vector of 1 to 4 components");
+    const Interpolation mode = kind == "clr_varying_flat"            ? Interpolation::Flat
+                               : kind == "clr_varying_noperspective" ? Interpolation::NoPerspective
+                                                                     : Interpolation::Smooth;
+    if (vector.scalar != "float" && mode != Interpolation::Flat) {
+      fail(v.line, "integer varying '" + v.name + "' must be declared with clr_varying_flat (integers are not interpolated)");
+    }
+    check_name("varying", v.name, result_.interface.varyings, v.line);
+    v.interpolation = mode == Interpolation::Flat ? "flat" : mode == Interpolation::NoPerspective ? "noperspective" : "smooth";
+    v.offset = result_.varying_floats.size();
+    v.bytes = static_cast<std::size_t>(vector.components) * 4;
+    result_.varying_floats.insert(result_.varying_floats.end(), static_cast<std::size_t>(vector.components), mode);
+    result_.interface.varyings.push_back(v);
+  }
+
+  // Lays the uniform out as the OpenCL C compiler lays out the generated struct: every type is
+  // aligned to its size (three-component vectors take the room of four), arrays are runs of it.
+  void declare_uniform(ProgramVariable& v) {
+    static const std::regex array("([A-Za-z_][A-Za-z0-9_]*)\\s*\\[\\s*([0-9]+)\\s*\\]");
+    std::smatch match;
+    if (std::regex_match(v.name, match, array)) {
+      v.name = match[1];
+      const unsigned long size = std::stoul(match[2]);
+      if (size < 1 || size > 65536) fail(v.line, "uniform array '" + v.name + "' needs 1 to 65536 elements");
+      v.array_size = static_cast<int>(size);
+    }
+    std::size_t size = 0;
+    const VectorType vector = vector_type(v.type);
+    if (vector.components != 0) size = 4u * (vector.components == 3 ? 4u : static_cast<unsigned>(vector.components));
+    else if (v.type == "float8" || v.type == "int8" || v.type == "uint8") size = 32;
+    else if (v.type == "float16" || v.type == "int16" || v.type == "uint16") size = 64;
+    else fail(v.line, "uniform type '" + v.type + "' is not a float, int or uint vector (1, 2, 3, 4, 8 or 16 components)");
+    check_name("uniform", v.name, result_.interface.uniforms, v.line);
+    v.offset = (next_offset_ + size - 1) / size * size;
+    v.bytes = size * static_cast<std::size_t>(std::max(v.array_size, 1));
+    next_offset_ = v.offset + v.bytes;
+    alignment_ = std::max(alignment_, size);
+    // The struct's size is a multiple of its alignment.
+    result_.interface.uniform_bytes = (next_offset_ + alignment_ - 1) / alignment_ * alignment_;
+    result_.interface.uniforms.push_back(v);
+  }
+
+  void find_entry_points() {
+    const auto defines = [&](const char* pattern) {
+      const std::regex function(pattern);
+      int depth = 0;
+      std::size_t checked = 0;
+      for (auto it = std::sregex_iterator(code_.begin(), code_.end(), function); it != std::sregex_iterator(); ++it) {
+        for (; checked < static_cast<std::size_t>(it->position()); ++checked) {
+          if (code_[checked] == '{') ++depth;
+          if (code_[checked] == '}') --depth;
+        }
+        if (depth == 0) return true;
+      }
+      return false;
+    };
+    if (!defines("\\bvoid\\s+vertex\\s*\\([^)]*\\)\\s*\\{")) {
+      fail(1, "the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
+    }
+    if (!defines("\\bvoid\\s+fragment\\s*\\([^)]*\\)\\s*\\{")) {
+      fail(1, "the program defines no fragment program: void fragment(clr_fragment* f) { ... }");
+    }
+    result_.interface.has_depth_test = defines("\\bbool\\s+depth_test\\s*\\([^)]*\\)\\s*\\{");
+    result_.interface.has_blend = defines("\\bfloat4\\s+blend\\s*\\([^)]*\\)\\s*\\{");
+  }
+
+  std::string code_;
+  std::string file_;
+  ParsedProgram result_;
+  std::size_t alignment_ = 4;   // of the uniform struct
+  std::size_t next_offset_ = 0;  // where the next uniform would start
+};
+
+}  // namespace
+
+VectorType vector_type(const std::string& name) {
+  for (const char* scalar : {"float", "uint", "int"}) {
+    const std::string s = scalar;
+    if (name == s) return {s, 1};
+    if (name.size() == s.size() + 1 && name.starts_with(s) && name.back() >= '2' && name.back() <= '4') {
+      return {s, name.back() - '0'};
+    }
+  }
+  return {};
+}
+
+ParsedProgram parse_program(const std::string& source, const std::string& file_name) {
+  return Parser(source, file_name).parse();
+}
+
+}  // namespace clraster::program

@@ -1,0 +1,150 @@
+/* prelude.cl: what user programs call, besides OpenCL C's built-ins (docs/programs.md lists it all).
+ * Compiled after the generated interface (clr_vertex, clr_fragment) and before the user's source. */
+
+/* The declaration macros expand to nothing: the generator read them already. */
+#define clr_attribute(type, name)
+#define clr_varying(type, name)
+#define clr_varying_flat(type, name)
+#define clr_varying_noperspective(type, name)
+#define clr_uniform(type, name)
+#define clr_texture(name)
+#define clr_buffer(type, name)
+#define clr_output(type, name)
+
+/* ---- Matrices: float16 holds a column-major 4x4 matrix (as glUniformMatrix4fv) ---------------- */
+inline float4 clr_mul(float16 m, float4 v) {
+  return m.s0123 * v.x + m.s4567 * v.y + m.s89ab * v.z + m.scdef * v.w;
+}
+inline float16 clr_mul_matrix(float16 a, float16 b) {
+  return (float16)(clr_mul(a, b.s0123), clr_mul(a, b.s4567), clr_mul(a, b.s89ab), clr_mul(a, b.scdef));
+}
+/* The upper-left 3x3 of m times v (directions, or normals with the inverse-transpose). */
+inline float3 clr_mul3(float16 m, float3 v) { return m.s012 * v.x + m.s456 * v.y + m.s89a * v.z; }
+
+/* ---- Fragments ---------------------------------------------------------------------------------- */
+/* Discards the fragment: nothing of it is written. The program keeps running (its derivatives must
+ * stay available to the rest of its quad), so return after it where that matters. */
+inline void clr_discard(clr_fragment* f) { f->discarded = true; }
+
+/* Framebuffer fetch: colour attachment `target` at this pixel as it is before this fragment is
+ * written (after every earlier fragment of the draw and of earlier draws). */
+inline float4 clr_framebuffer_fetch(const clr_fragment* f, uint target) {
+  return target < CLR_NUM_OUTPUTS ? as_float4(f->clr_tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + f->clr_lane])
+                                  : (float4)(0.0f);
+}
+inline int4 clr_framebuffer_fetch_int(const clr_fragment* f, uint target) {
+  return target < CLR_NUM_OUTPUTS ? as_int4(f->clr_tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + f->clr_lane])
+                                  : (int4)(0);
+}
+inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint target) {
+  return target < CLR_NUM_OUTPUTS ? f->clr_tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + f->clr_lane] : (uint4)(0);
+}
+
+/* ---- Derivatives -------------------------------------------------------------------------------------
+ * Fragments are shaded in 2x2 quads aligned to even window coordinates. A derivative is the
+ * difference between horizontal (x) or vertical (y) neighbours of the quad: "fine" uses this
+ * fragment's own row or column, "coarse" the quad's first (lowest) row or column for all four.
+ * Values are exchanged through local memory between the tile's work-items, so every fragment of
+ * the tile must reach each derivative call (no derivatives inside branches that differ between
+ * fragments, the same rule as GLSL's "uniform control flow"). */
+/* dFdx and dFdy without a suffix: coarse, as most GPUs and llvmpipe compute them. */
+#define CLR_DEFAULT_DERIVATIVE_COARSE true
+#define CLR_QUAD_X 0
+#define CLR_QUAD_Y 1
+
+/* Makes `value` visible to the quad; returns the difference along `axis`. */
+inline float4 clr_quad_difference(clr_fragment* f, float4 value, int axis, bool coarse) {
+  barrier(CLK_LOCAL_MEM_FENCE); /* every earlier exchange has been read */
+  f->clr_quad[f->clr_lane] = value;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint x = f->clr_lane % CLR_TILE_SIZE;
+  const uint y = f->clr_lane / CLR_TILE_SIZE;
+  if (axis == CLR_QUAD_X) {
+    const uint row = coarse ? y & ~1u : y;
+    const uint left = row * CLR_TILE_SIZE + (x & ~1u);
+    return f->clr_quad[left + 1] - f->clr_quad[left];
+  }
+  const uint column = coarse ? x & ~1u : x;
+  const uint bottom = (y & ~1u) * CLR_TILE_SIZE + column;
+  return f->clr_quad[bottom + CLR_TILE_SIZE] - f->clr_quad[bottom];
+}
+
+#define CLR_DERIVATIVE(name, axis, coarse)                                                              \
+  __attribute__((overloadable)) inline float name(clr_fragment* f, float v) {                           \
+    return clr_quad_difference(f, (float4)(v, 0.0f, 0.0f, 0.0f), axis, coarse).x;                      \
+  }                                                                                                      \
+  __attribute__((overloadable)) inline float2 name(clr_fragment* f, float2 v) {                         \
+    return clr_quad_difference(f, (float4)(v, 0.0f, 0.0f), axis, coarse).xy;                           \
+  }                                                                                                      \
+  __attribute__((overloadable)) inline float3 name(clr_fragment* f, float3 v) {                         \
+    return clr_quad_difference(f, (float4)(v, 0.0f), axis, coarse).xyz;                                \
+  }                                                                                                      \
+  __attribute__((overloadable)) inline float4 name(clr_fragment* f, float4 v) {                         \
+    return clr_quad_difference(f, v, axis, coarse);                                                     \
+  }
+CLR_DERIVATIVE(clr_dfdx_fine, CLR_QUAD_X, false)
+CLR_DERIVATIVE(clr_dfdy_fine, CLR_QUAD_Y, false)
+CLR_DERIVATIVE(clr_dfdx_coarse, CLR_QUAD_X, true)
+CLR_DERIVATIVE(clr_dfdy_coarse, CLR_QUAD_Y, true)
+CLR_DERIVATIVE(clr_dfdx, CLR_QUAD_X, CLR_DEFAULT_DERIVATIVE_COARSE)
+CLR_DERIVATIVE(clr_dfdy, CLR_QUAD_Y, CLR_DEFAULT_DERIVATIVE_COARSE)
+#undef CLR_DERIVATIVE
+
+__attribute__((overloadable)) inline float clr_fwidth(clr_fragment* f, float v) {
+  return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
+}
+__attribute__((overloadable)) inline float2 clr_fwidth(clr_fragment* f, float2 v) {
+  return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
+}
+__attribute__((overloadable)) inline float3 clr_fwidth(clr_fragment* f, float3 v) {
+  return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
+}
+__attribute__((overloadable)) inline float4 clr_fwidth(clr_fragment* f, float4 v) {
+  return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
+}
+
+/* ---- Textures ------------------------------------------------------------------------------------
+ * clr_sample_lod, clr_sample_grad, clr_texel_fetch(_int, _uint), clr_texture_size and
+ * clr_texture_levels work in any program (resources/texture.cl). In fragment programs clr_sample
+ * picks the level of detail from the quad's derivatives of uv, as GLSL's texture() does. */
+inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
+  barrier(CLK_LOCAL_MEM_FENCE);
+  f->clr_quad[f->clr_lane] = (float4)(uv, 0.0f, 0.0f);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  /* One level of detail per quad, from its first row and column. */
+  const uint x = f->clr_lane % CLR_TILE_SIZE;
+  const uint y = f->clr_lane / CLR_TILE_SIZE;
+  const uint corner = (y & ~1u) * CLR_TILE_SIZE + (x & ~1u);
+  const float2 duv_dx = f->clr_quad[corner + 1].xy - f->clr_quad[corner].xy;
+  const float2 duv_dy = f->clr_quad[corner + CLR_TILE_SIZE].xy - f->clr_quad[corner].xy;
+  return clr_sample_grad(texture, uv, duv_dx, duv_dy);
+}
+
+/* ---- Vertex attributes (used by the generated fetch) ----------------------------------------------- */
+inline __global const uchar* clr_attribute_element(__constant const AttributeDesc* d, __global const uchar* data,
+                                                   uint vertex, uint instance) {
+  return data + d->offset + (ulong)(d->per_instance ? instance : vertex) * d->stride;
+}
+inline float4 clr_fetch_float(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
+                              uint instance) {
+  float4 v = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+  __global const float* p = (__global const float*)clr_attribute_element(d, data, vertex, instance);
+  if (d->components > 0) v.x = p[0];
+  if (d->components > 1) v.y = p[1];
+  if (d->components > 2) v.z = p[2];
+  if (d->components > 3) v.w = p[3];
+  return v;
+}
+inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global const uchar* data, uint vertex, uint instance) {
+  int4 v = (int4)(0, 0, 0, 1);
+  __global const int* p = (__global const int*)clr_attribute_element(d, data, vertex, instance);
+  if (d->components > 0) v.x = p[0];
+  if (d->components > 1) v.y = p[1];
+  if (d->components > 2) v.z = p[2];
+  if (d->components > 3) v.w = p[3];
+  return v;
+}
+inline uint4 clr_fetch_uint(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
+                            uint instance) {
+  return as_uint4(clr_fetch_int(d, data, vertex, instance));
+}
