@@ -107,7 +107,7 @@ class FragmentOpsTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     ContextState& state = *shared_context().impl().state;
-    program_ = state.programs.get("fragment op unit tests", cl_sources::pipeline_program() + kTestKernels,
+    program_ = state.programs.get("fragment op unit tests", builtin_stage_program() + kTestKernels,
                                   "-cl-std=CL1.2 -DCLR_TILE_SIZE=16");
   }
 

@@ -7,6 +7,7 @@
 #include "clr_limits.h"
 #include "parallel/radix_sort.hpp"
 #include "pipeline/draw_state.hpp"
+#include "program/interface.hpp"
 #include "support/test_support.hpp"
 
 #include <algorithm>
@@ -63,7 +64,7 @@ class KernelTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     ContextState& state = *shared_context().impl().state;
-    program_ = state.programs.get("kernel unit tests", cl_sources::pipeline_program() + kTestKernels,
+    program_ = state.programs.get("kernel unit tests", builtin_stage_program() + kTestKernels,
                                   "-cl-std=CL1.2 -DCLR_TILE_SIZE=16");
   }
 
@@ -229,7 +230,10 @@ TEST_F(ClipTest, SharedEdgesAreClippedToBitIdenticalPoints) {
 
 TEST_F(KernelTest, WindowCoordinatesSnapToOneTwoHundredFiftySixthOfAPixelAroundPixelCentres) {
   DrawState state;
-  DrawUniforms u = pipeline::make_uniforms(state, 256, 256);  // NDC x -> (x + 1) * 128
+  pipeline::RenderTarget target;
+  target.width = target.height = 256;
+  const std::string builtin = cl_sources::text("program/builtin.cl");
+  DrawUniforms u = pipeline::make_uniforms(state, target, program::parse_program(builtin, "<builtin>"));  // NDC x -> (x + 1) * 128
   cl::Buffer uniforms = buffer(std::vector<DrawUniforms>{u});
   // Window x = 10.5 (a pixel centre) -> fixed 10 * 256; x = 10.5 + 1/256 -> 2561; x = 0 -> -128;
   // halfway between two 1/256 steps rounds to even; w = 0 cannot be projected.

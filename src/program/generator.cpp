@@ -129,7 +129,7 @@ void clr_write_outputs(clr_fragment* f, __local uint4* tile, uint lane, __consta
         << ", clr_attribute_" << i << ", vertex, instance)" << swizzle[vector.components] << ";";
   }
   out << " } while (0)\n";
-  out << "#define CLR_TARGET_PARAMS";
+  out << "#define CLR_TARGET_PARAMS ";
   for (std::size_t i = 0; i < in.outputs.size(); ++i) out << ", __global uchar* clr_color_" << i;
   out << "\n#define CLR_TARGETS {";
   for (std::size_t i = 0; i < in.outputs.size(); ++i) out << (i ? ", " : " ") << "clr_color_" << i;

@@ -64,19 +64,17 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
  * fragment passes both. */
 inline bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
                            __local uchar* stencil) {
-  StencilUniforms s = u->stencil[f->front_facing ? 0 : 1];
-  if (u->stencil_test && !clr_stencil_test(&s, *stencil)) {
-    *stencil = (uchar)clr_stencil_update(&s, s.stencil_fail, *stencil);
-    return false;
-  }
+  const StencilUniforms s = u->stencil[f->front_facing ? 0 : 1];
+  const bool stencil_passes = !u->stencil_test || clr_stencil_test(s, *stencil);
   bool depth_passes = true;
-  if (u->depth_test) {
+  if (stencil_passes && u->depth_test) {
     depth_passes = u->depth_func == CLR_COMPARE_PROGRAM ? clr_program_depth_test(f, f->frag_depth, *depth)
                                                         : clr_compare(u->depth_func, f->frag_depth, *depth);
   }
-  if (u->stencil_test) *stencil = (uchar)clr_stencil_update(&s, depth_passes ? s.depth_pass : s.depth_fail, *stencil);
-  if (depth_passes && u->depth_test && u->depth_write) *depth = f->frag_depth;
-  return depth_passes;
+  if (u->stencil_test) *stencil = (uchar)clr_stencil_update(s, clr_stencil_op(s, stencil_passes, depth_passes), *stencil);
+  if (!stencil_passes || !depth_passes) return false;
+  if (u->depth_test && u->depth_write) *depth = f->frag_depth;
+  return true;
 }
 
 /* Output `target` of a fragment into a normalized or float attachment: blending (OpenGL's
@@ -97,11 +95,10 @@ void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local
         program_rgb || program_alpha ? clr_program_blend(f, target, source, destination) : (float4)(0.0f);
     if (program_rgb) b.rgb_equation = CLR_BLEND_ADD;
     if (program_alpha) b.alpha_equation = CLR_BLEND_ADD;
-    const float4 fixed = clr_blend(&b, source, destination, vload4(0, u->blend_color), is_normalized_format(format));
+    const float4 fixed = clr_blend(b, source, destination, vload4(0, u->blend_color), is_normalized_format(format));
     result = (float4)(program_rgb ? programmed.xyz : fixed.xyz, program_alpha ? programmed.w : fixed.w);
   }
-  const int4 written = (int4)(b.write_mask & 1u, b.write_mask & 2u, b.write_mask & 4u, b.write_mask & 8u) != 0;
-  *pixel = as_uint4(clr_quantize_float(format, select(destination, result, written)));
+  *pixel = as_uint4(clr_quantize_float(format, clr_apply_write_mask(b.write_mask, result, destination)));
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
@@ -109,9 +106,7 @@ void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uin
                               __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
   __local uint4* pixel = &tile[target * CLR_TILE_PIXELS + lane];
-  const uint mask = u->blend[target].write_mask;
-  const int4 written = (int4)(mask & 1u, mask & 2u, mask & 4u, mask & 8u) != 0;
-  *pixel = select(*pixel, value, written);
+  *pixel = select(*pixel, value, clr_write_mask_lanes(u->blend[target].write_mask));
 }
 
 /* One fragment of triangle t at this work-item's pixel (x, y) with edge values e. `live`: the

@@ -11,15 +11,15 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
                            __global float4* shaded CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
   const uint slot = get_global_id(0);
   if (slot >= slot_count) return;
-  uint vertex = slot;
+  uint vertex_index = slot;
   if (!shade_all) {
     const uint position = u->first + (slot < main_count ? stream_begin + slot : 0u);
-    vertex = u->index_size ? fetch_index(indices, u->index_size, position) : position;
+    vertex_index = u->index_size ? fetch_index(indices, u->index_size, position) : position;
   }
   clr_vertex v = {0};
-  v.vertex_id = vertex;
+  v.vertex_id = vertex_index;
   v.instance_id = u->instance;
-  CLR_FETCH_ATTRIBUTES(v.in, vertex, u->instance);
+  CLR_FETCH_ATTRIBUTES(v.in, vertex_index, u->instance);
   v.position = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
   CLR_BIND_RESOURCES(v);
   vertex(&v);

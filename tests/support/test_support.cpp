@@ -1,8 +1,10 @@
 #include "support/test_support.hpp"
 
+#include "cl/kernel_sources.hpp"
 #include "io/image_io.hpp"
 #include "io/procedural.hpp"
 #include "oracle/gl_renderer.hpp"
+#include "program/generator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -64,6 +66,11 @@ struct ClrasterMesh {
 };
 
 }  // namespace
+
+std::string builtin_stage_program() {
+  const std::string source = cl_sources::text("program/builtin.cl");
+  return program::generate_stage_program(program::parse_program(source, "<builtin>"), source, "<builtin>");
+}
 
 Context& shared_context() {
   static Context context;

@@ -20,6 +20,10 @@ namespace clraster::test {
 // The context every test of the process shares (default options, device from CLRASTER_DEVICE).
 Context& shared_context();
 
+// The generated stage program of the built-in program: what kernel unit tests append their test
+// kernels to, so they call the stages' real functions.
+std::string builtin_stage_program();
+
 // Renders one draw of `mesh` into a width x height framebuffer cleared to opaque black and depth 1.
 struct RenderResult {
   Image image;

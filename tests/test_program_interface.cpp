@@ -1,0 +1,173 @@
+// The program interface: what parse_program reads from a program's declarations (types, layouts,
+// interpolation, entry points), the errors it gives for malformed ones, and compile errors reported
+// at the user's file and line.
+#include "api/impl.hpp"
+#include "program/interface.hpp"
+#include "support/test_support.hpp"
+
+namespace clraster::test {
+namespace {
+
+using program::Interpolation;
+using program::parse_program;
+
+const char* const kMinimal = R"(
+void vertex(clr_vertex* v) { v->position = (float4)(0.0f, 0.0f, 0.0f, 1.0f); }
+void fragment(clr_fragment* f) {}
+)";
+
+std::string with_entry_points(const std::string& declarations) { return declarations + kMinimal; }
+
+// The InvalidArgument message parse_program throws for `source`.
+std::string parse_error(const std::string& source) {
+  try {
+    parse_program(source, "user.cl");
+  } catch (const InvalidArgument& error) {
+    return error.what();
+  }
+  return "(no error)";
+}
+
+TEST(ProgramInterface, ReadsEveryKindOfDeclarationInOrder) {
+  const program::ParsedProgram p = parse_program(with_entry_points(R"(
+clr_attribute(float3, position)
+clr_attribute(uint2, ids)
+clr_varying(float2, uv)
+clr_varying_flat(int, material)
+clr_varying_noperspective(float, screen_x)
+clr_uniform(float16, mvp)
+clr_texture(albedo)
+clr_buffer(const float4, palette)
+clr_buffer(uint, counters)
+clr_output(float4, color)
+clr_output(uint4, id)
+)"), "user.cl");
+  const ProgramInterface& in = p.interface;
+  ASSERT_EQ(in.attributes.size(), 2u);
+  EXPECT_EQ(in.attributes[1].name, "ids");
+  EXPECT_EQ(in.attributes[1].type, "uint2");
+  EXPECT_EQ(in.attributes[1].line, 3);
+  ASSERT_EQ(in.varyings.size(), 3u);
+  EXPECT_EQ(in.varyings[1].interpolation, "flat");
+  EXPECT_EQ(in.varyings[2].interpolation, "noperspective");
+  EXPECT_EQ(in.varyings[2].offset, 3u);  // after uv's two floats and material's one
+  EXPECT_EQ(p.varying_floats, (std::vector<Interpolation>{Interpolation::Smooth, Interpolation::Smooth,
+                                                           Interpolation::Flat, Interpolation::NoPerspective}));
+  ASSERT_EQ(in.textures.size(), 1u);
+  EXPECT_EQ(in.textures[0].name, "albedo");
+  ASSERT_EQ(in.buffers.size(), 2u);
+  EXPECT_FALSE(in.buffers[0].writable);
+  EXPECT_TRUE(in.buffers[1].writable);
+  ASSERT_EQ(in.outputs.size(), 2u);
+  EXPECT_EQ(in.outputs[1].type, "uint4");
+  EXPECT_FALSE(in.uses_derivatives);
+  EXPECT_FALSE(in.has_depth_test);
+  EXPECT_FALSE(in.has_blend);
+}
+
+TEST(ProgramInterface, LaysUniformsOutAsOpenClCDoes) {
+  const program::ParsedProgram p = parse_program(with_entry_points(R"(
+clr_uniform(float, scale)
+clr_uniform(float3, light)
+clr_uniform(int2, size)
+clr_uniform(float16, mvp)
+clr_uniform(float3, colors[3])
+clr_uniform(uint, flags)
+)"), "user.cl");
+  const auto& u = p.interface.uniforms;
+  ASSERT_EQ(u.size(), 6u);
+  EXPECT_EQ(u[0].offset, 0u);
+  EXPECT_EQ(u[1].offset, 16u);  // float3 is aligned like float4
+  EXPECT_EQ(u[1].bytes, 16u);
+  EXPECT_EQ(u[2].offset, 32u);
+  EXPECT_EQ(u[3].offset, 64u);  // float16 aligns to 64 bytes
+  EXPECT_EQ(u[4].offset, 128u);
+  EXPECT_EQ(u[4].array_size, 3);
+  EXPECT_EQ(u[4].bytes, 48u);
+  EXPECT_EQ(u[5].offset, 176u);
+  EXPECT_EQ(p.interface.uniform_bytes, 192u);  // padded to the struct's 64-byte alignment
+}
+
+TEST(ProgramInterface, IgnoresDeclarationsInCommentsAndStrings) {
+  const program::ParsedProgram p = parse_program(with_entry_points(R"(
+// clr_uniform(float, commented)
+/* clr_texture(also_commented) */
+clr_uniform(float, real)
+)"), "user.cl");
+  ASSERT_EQ(p.interface.uniforms.size(), 1u);
+  EXPECT_EQ(p.interface.uniforms[0].name, "real");
+  EXPECT_TRUE(p.interface.textures.empty());
+}
+
+TEST(ProgramInterface, FindsOptionalEntryPointsAndWhatTheFragmentProgramUses) {
+  const program::ParsedProgram p = parse_program(R"(
+clr_texture(t)
+void vertex(clr_vertex* v) {}
+bool depth_test(clr_fragment* f, float a, float b) { return a > b; }
+float4 blend(clr_fragment* f, uint target, float4 s, float4 d) { return s * d; }
+void fragment(clr_fragment* f) {
+  if (clr_sample(f, f->textures.t, (float2)(0.0f)).x < 0.5f) clr_discard(f);
+  f->frag_depth = 0.25f;
+}
+)", "user.cl");
+  EXPECT_TRUE(p.interface.has_depth_test);
+  EXPECT_TRUE(p.interface.has_blend);
+  EXPECT_TRUE(p.interface.uses_derivatives);
+  EXPECT_TRUE(p.may_discard);
+  EXPECT_TRUE(p.writes_depth);
+}
+
+TEST(ProgramInterface, MalformedDeclarationsNameFileLineAndProblem) {
+  EXPECT_EQ(parse_error(with_entry_points("\n\nclr_uniform(vec3, light)\n")),
+            "user.cl:3: uniform type 'vec3' is not a float, int or uint vector (1, 2, 3, 4, 8 or 16 components)");
+  EXPECT_EQ(parse_error(with_entry_points("clr_varying(int, id)\n")),
+            "user.cl:1: integer varying 'id' must be declared with clr_varying_flat (integers are not interpolated)");
+  EXPECT_EQ(parse_error(with_entry_points("clr_attribute(float3, p)\nclr_attribute(float2, p)\n")),
+            "user.cl:2: attribute 'p' is already declared on line 1");
+  EXPECT_EQ(parse_error(with_entry_points("clr_output(float3, color)\n")),
+            "user.cl:1: output type 'float3' is not float4, int4 or uint4");
+  EXPECT_EQ(parse_error(with_entry_points("clr_texture(a, b)\n")), "user.cl:1: clr_texture takes one argument: (name)");
+  EXPECT_EQ(parse_error(with_entry_points("clr_uniform(float, 2x)\n")), "user.cl:1: uniform name '2x' is not an identifier");
+  EXPECT_EQ(parse_error(with_entry_points("clr_uniform(float, big[100000])\n")),
+            "user.cl:1: uniform array 'big' needs 1 to 65536 elements");
+  EXPECT_EQ(parse_error("void fragment(clr_fragment* f) {}\n"),
+            "user.cl:1: the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
+  EXPECT_EQ(parse_error("void vertex(clr_vertex* v) {}\n"),
+            "user.cl:1: the program defines no fragment program: void fragment(clr_fragment* f) { ... }");
+  EXPECT_EQ(parse_error("void vertex(clr_vertex* v) { clr_uniform(float, x) }\nvoid fragment(clr_fragment* f) {}"),
+            "user.cl:1: clr_uniform must be declared at file scope, outside any function");
+  std::string nine_outputs;
+  for (int i = 0; i < 9; ++i) nine_outputs += "clr_output(float4, out" + std::to_string(i) + ")\n";
+  EXPECT_EQ(parse_error(with_entry_points(nine_outputs)), "user.cl:9: more than 8 outputs (one per colour attachment)");
+}
+
+TEST(ProgramCompile, ErrorsPointAtTheUsersFileAndLine) {
+  try {
+    Program(shared_context(), "clr_output(float4, color)\nvoid vertex(clr_vertex* v) {\n  v->position = undefined_thing;\n}\n"
+                              "void fragment(clr_fragment* f) { f->out.color = (float4)(1.0f); }\n",
+            "shaders/broken.cl");
+    FAIL() << "the program compiled";
+  } catch (const BuildError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("program shaders/broken.cl failed to compile:"), std::string::npos) << message;
+    EXPECT_NE(message.find("shaders/broken.cl:3:17: error: use of undeclared identifier 'undefined_thing'"),
+              std::string::npos)
+        << message;
+  }
+}
+
+TEST(ProgramCompile, AMissingFileIsAnError) {
+  EXPECT_THROW(
+      {
+        try {
+          Program::load(shared_context(), "/nonexistent/program.cl");
+        } catch (const InvalidArgument& error) {
+          EXPECT_STREQ(error.what(), "cannot open program file /nonexistent/program.cl: No such file or directory");
+          throw;
+        }
+      },
+      InvalidArgument);
+}
+
+}  // namespace
+}  // namespace clraster::test
