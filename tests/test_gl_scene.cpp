@@ -386,7 +386,8 @@ TEST(GlScene, IntegerAndDepthTexturesAreSampled) {
       "layout(location = 0) out int i;\nlayout(location = 1) out float d;",
       "i = texelFetch(integers, ivec2(gl_FragCoord.xy), 0).r;\n"
       "d = texture(depths, gl_FragCoord.xy / 2.0).r;");
-  program.set_texture("integers", integer).set_texture("depths", depth, Sampler{.mip_filter = clraster::MipFilter::None});
+  program.set_texture("integers", integer);
+  program.set_texture("depths", depth, Sampler{.mip_filter = clraster::MipFilter::None});
   EXPECT_THROW(program.set_texture("depths", integer), InvalidArgument);  // isampler2D texture to a sampler2D
   target.draw(full_screen(program));
   EXPECT_EQ(as<std::int32_t>(out_integer.read()), integers);
@@ -533,19 +534,22 @@ TEST(GlScene, AdvancedBlendEquationsCombineKnownColours) {
   EXPECT_THROW(two_targets.draw(call), InvalidArgument);  // GL allows one colour attachment only
 }
 
-// EXT_shader_framebuffer_fetch: an inout output starts as the attachment's value.
-TEST(GlScene, FramebufferFetchReadsTheAttachment) {
-  GlTexture color(2, 2, Format::RGBA32F);
-  GlFramebuffer target({&color});
+// EXT_shader_framebuffer_fetch: inout outputs start as their attachments' values, float or integer.
+TEST(GlScene, FramebufferFetchReadsTheAttachments) {
+  GlTexture color(2, 2, Format::RGBA32F), counter(2, 2, Format::R32I);
+  GlFramebuffer target({&color, &counter});
   target.clear({0.5f, 1.0f, 0.0f, 0.25f});
+  target.clear_color_int(1, {-7, 0, 0, 0});
   GlProgram program = fragment_program(
-      "#extension GL_EXT_shader_framebuffer_fetch : require\nlayout(location = 0) inout vec4 c;",
-      "c = c * 0.5 + vec4(0.25);");
+      "#extension GL_EXT_shader_framebuffer_fetch : require\n"
+      "layout(location = 0) inout vec4 c;\nlayout(location = 1) inout int n;",
+      "c = c * 0.5 + vec4(0.25);\nn += 3;");
   target.draw(full_screen(program));
   target.draw(full_screen(program));
   const std::vector<float> values = as<float>(color.read());
   EXPECT_EQ(std::vector<float>(values.begin(), values.begin() + 4),
             (std::vector<float>{0.5f, 0.625f, 0.375f, 0.4375f}));
+  EXPECT_EQ(as<std::int32_t>(counter.read()), (std::vector<std::int32_t>{-1, -1, -1, -1}));
 }
 
 // The derivatives of 3x + 5y (window coordinates) are its slopes, fine or coarse.

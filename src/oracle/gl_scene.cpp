@@ -439,9 +439,9 @@ struct GlProgram::Impl {
 
   std::string name;
   gl::Program program;
-  std::map<std::string, Uniform> uniforms;      // active uniforms, arrays by their name without "[0]"
+  std::map<std::string, Uniform> uniforms;             // active uniforms, arrays by their name without "[0]"
   std::map<std::string, ProgramAttribute> attributes;  // active attributes, built-ins excluded
-  std::map<std::string, TextureBinding> textures;
+  std::map<std::string, TextureBinding> textures;      // by sampler name; unit i is the i-th
 
   Impl(const std::string& vertex_source, const std::string& fragment_source, std::string program_name)
       : name(std::move(program_name)) {
@@ -472,12 +472,13 @@ struct GlProgram::Impl {
     for (GLint i = 0; i < count; ++i) {
       GLint size = 0;
       GLenum type = 0;
-      std::string attribute = active_name(id, GL_ACTIVE_ATTRIBUTE_MAX_LENGTH, GLuint(i), &size, &type, glGetActiveAttrib);
+      std::string attribute =
+          active_name(id, GL_ACTIVE_ATTRIBUTE_MAX_LENGTH, GLuint(i), &size, &type, glGetActiveAttrib);
       if (built_in(attribute)) continue;
       const ValueType* value = value_type(type);
       if (!value || value->matrix || size != 1) {
-        throw InvalidArgument("program '" + name + "': attribute '" + attribute + "' is not a scalar or vector (GL type " +
-                              hex(type) + "), which the oracle cannot feed");
+        throw InvalidArgument("program '" + name + "': attribute '" + attribute +
+                              "' is not a scalar or vector (GL type " + hex(type) + "), which the oracle cannot feed");
       }
       const GLint location = glGetAttribLocation(id, attribute.c_str());
       attributes.emplace(std::move(attribute), ProgramAttribute{location, value});
@@ -517,9 +518,8 @@ struct GlProgram::Impl {
                             std::to_string(count) + " from element " + std::to_string(element));
     }
     Context::instance().make_current();
-    const GLint location =
-        element == 0 ? target.location
-                     : glGetUniformLocation(program.get(), (uniform_name + "[" + std::to_string(element) + "]").c_str());
+    const std::string element_name = uniform_name + "[" + std::to_string(element) + "]";
+    const GLint location = element == 0 ? target.location : glGetUniformLocation(program.get(), element_name.c_str());
     write(location, type->type, count, values.data());
     gl::check("setting a uniform");
     target.is_set = true;
@@ -760,8 +760,8 @@ struct GlFramebuffer::Impl {
       const bool is_depth = depth_stencil && i == colors.size();
       const GlFormat& format = all[i]->impl_->gl();
       if (format.color() == is_depth) {
-        throw InvalidArgument(std::string(is_depth ? "the depth attachment" : "colour attachment " + std::to_string(i)) +
-                              " cannot be " + format.name);
+        const std::string attachment = is_depth ? "the depth attachment" : "colour attachment " + std::to_string(i);
+        throw InvalidArgument(attachment + " cannot be " + format.name);
       }
     }
     width = all[0]->width();

@@ -64,6 +64,9 @@ bool has_gl_extension(std::string_view name);
 // Texel data is always clraster's layout: rows of width texels from t = 0, tightly packed, 1, 2, 4,
 // 4, 4, 8, 8, 16, 4, 4, 16, 16, 4 bytes a texel in the order above; Depth32FStencil8 is a plane of
 // float depths followed by a plane of stencil bytes (GL's interleaved layout is converted here).
+// SRGB8_A8 attachments store linear values encoded; llvmpipe rounds clear values exactly but encodes
+// fragment outputs approximately (linear 0.5, 187.52 encoded, is stored as 187), so comparisons of
+// sRGB renders need a tolerance of one.
 class GlTexture {
  public:
   // Zero texels. width, height: 1..kMaxTextureSize; levels: 1..the full chain, or kFullMipChain for
