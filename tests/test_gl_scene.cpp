@@ -359,7 +359,9 @@ TEST(GlScene, SamplerLevelOfDetailStateSelectsMipLevels) {
   EXPECT_EQ(level_sampled({.mip_filter = MipFilter::Nearest}), 2);
   EXPECT_EQ(level_sampled({.mip_filter = MipFilter::None}), 0);
   EXPECT_EQ(level_sampled({.mip_filter = MipFilter::Nearest, .lod_bias = -1.0f}), 1);
+  EXPECT_EQ(level_sampled({.mip_filter = MipFilter::Nearest, .lod_bias = -0.25f}), 2);  // the nearer level
   EXPECT_EQ(level_sampled({.mip_filter = MipFilter::Nearest, .max_lod = 1.0f}), 1);
+  EXPECT_EQ(level_sampled({.mip_filter = MipFilter::Nearest, .lod_bias = -2.0f, .min_lod = 1.0f}), 1);
   EXPECT_EQ(level_sampled({.mip_filter = MipFilter::Linear, .lod_bias = -0.5f}), 1.5f);
 }
 
