@@ -1,9 +1,7 @@
 #include "oracle/gl_renderer.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <utility>
 
 #include "oracle/gl_context.hpp"
 #include "oracle/gl_scene.hpp"
