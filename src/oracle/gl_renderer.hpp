@@ -1,5 +1,7 @@
 // The conformance oracle: renders what the clraster pipeline renders (same object-space data, same
 // DrawState, same four built-in shading modes) with Mesa's OpenGL 4.5, headless through EGL.
+// gl_scene.hpp is the general layer underneath (GLSL programs, textures, render targets) that tests
+// of programmable rendering use directly.
 //
 //   clraster::oracle::GlMesh mesh(positions, normals, indices);   // uploaded once
 //   clraster::oracle::GlRenderer gl(1920, 1080);
@@ -7,12 +9,12 @@
 //   gl.draw(mesh, 0, clraster::kAllElements, state);
 //   clraster::Image picture = gl.read_color();
 //
-// All renderers and meshes of a process share one EGL display and one GL context, created on first
-// use; Mesa is asked for its software renderer (LIBGL_ALWAYS_SOFTWARE=1 unless the environment says
-// otherwise) because llvmpipe is the reference. The context stays current on the first thread that
-// uses the oracle: use it from that thread only (others get a clraster::Error). Every failure throws
-// clraster::Error: EGL or GL unavailable, GL errors (named, e.g. GL_INVALID_VALUE), incomplete
-// framebuffers, shader build failures.
+// All renderers, meshes and scene objects of a process share one EGL display and one GL context,
+// created on first use; Mesa is asked for its software renderer (LIBGL_ALWAYS_SOFTWARE=1 unless the
+// environment says otherwise) because llvmpipe is the reference. The context stays current on the
+// first thread that uses the oracle: use it from that thread only (others get a clraster::Error).
+// Every failure throws clraster::Error: EGL or GL unavailable, GL errors (named, e.g.
+// GL_INVALID_VALUE), incomplete framebuffers, shader build failures.
 #pragma once
 
 #include <array>
@@ -50,7 +52,7 @@ class GlMesh {
   std::unique_ptr<Impl> impl_;
 };
 
-// A width x height (1..16384) framebuffer object: GL_RGBA8 colour, GL_DEPTH_COMPONENT32F depth.
+// A width x height (1..16384) GlFramebuffer of an RGBA8 colour and a Depth32F depth texture.
 class GlRenderer {
  public:
   GlRenderer(int width, int height);
@@ -67,11 +69,13 @@ class GlRenderer {
   // earlier draws (as clraster::Framebuffer::clear does).
   void clear(std::array<float, 4> color, float depth = 1.0f);
   // Draws `count` indices (or vertices, when the mesh is not indexed) from `first`; count ==
-  // kAllElements draws to the end. Every DrawState field maps to the GL state of the same meaning;
-  // depth clamping is off and the depth range is [0, 1]. As in clraster, projection * model_view and
-  // Lambert's normal matrix (the inverse transpose of model_view's upper 3x3; its cofactors when
-  // singular) are computed on the host in double. Throws InvalidArgument for a range past the end
-  // of the mesh, and for Depth shading with a range that is not finite with near < far.
+  // kAllElements draws to the end. Every DrawState field maps to the GL state of the same meaning
+  // (stencil state has nothing to act on: there is no stencil attachment); depth clamping is off and
+  // the depth range is [0, 1]. As in clraster, projection * model_view and Lambert's normal matrix
+  // (the inverse transpose of model_view's upper 3x3; its cofactors when singular) are computed on
+  // the host in double. Throws InvalidArgument for a range past the end of the mesh, for Depth
+  // shading with a range that is not finite with near < far, and for CompareFunc::Program and
+  // BlendEquation::Program (no GL equivalent).
   void draw(const GlMesh& mesh, std::uint32_t first, std::uint32_t count, const DrawState& state);
 
   Image read_color() const;               // rows top to bottom
