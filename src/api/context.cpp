@@ -43,11 +43,17 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
   }
 }
 
+const cl::Program& ContextState::core_program() {
+  if (core() == nullptr) {
+    const std::string build_options = "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size);
+    core = programs.get("pipeline", cl_sources::pipeline_program(), build_options);
+  }
+  return core;
+}
+
 pipeline::Pipeline& ContextState::get_pipeline() {
   if (!pipeline) {
-    const std::string build_options = "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size);
-    const cl::Program program = programs.get("pipeline", cl_sources::pipeline_program(), build_options);
-    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, program, options.tile_size, options.memory_cap);
+    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.tile_size, options.memory_cap);
   }
   return *pipeline;
 }

@@ -20,9 +20,12 @@ struct ContextState {
   cl::Context context;
   cl_host::Queue queue;
   cl_host::ProgramCache programs;
+  cl::Program core;                              // built by the first core_program()
   std::unique_ptr<pipeline::Pipeline> pipeline;  // built by the first draw
 
   ContextState(const ContextOptions& options, cl_host::Device device);
+  // The program of every embedded kernel (cl_sources::pipeline_program()), built once.
+  const cl::Program& core_program();
   pipeline::Pipeline& get_pipeline();
 };
 
