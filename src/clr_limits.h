@@ -28,6 +28,7 @@
 /* ---- Textures ------------------------------------------------------------------------------------ */
 #define CLR_MAX_TEXTURE_SIZE 16384 /* texels per side */
 #define CLR_MAX_TEXTURE_LEVELS 15  /* a full mip chain of CLR_MAX_TEXTURE_SIZE */
+#define CLR_MAX_TEXTURE_LOD_BIAS 16.0f /* |sampler lod bias| is clamped to this (llvmpipe's GL_MAX_TEXTURE_LOD_BIAS) */
 
 /* ---- Framebuffer attachments --------------------------------------------------------------------- */
 #define CLR_MAX_COLOR_ATTACHMENTS 8

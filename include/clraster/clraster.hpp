@@ -260,8 +260,9 @@ class Texture {
 
   // Replaces a level's texels (tightly packed, rows from t = 0).
   void upload(int level, std::span<const std::byte> texels);
-  // Recomputes levels 1.. from level 0 (a 2x2 box filter, in linear space for sRGB), e.g. after
-  // rendering into level 0.
+  // Recomputes levels 1.. from level 0, e.g. after rendering into level 0: each level samples the
+  // one before bilinearly at its texel centres, as Mesa's glGenerateMipmap does (a 2x2 box filter
+  // where a side halves exactly), in linear space for sRGB. Not for integer or depth formats.
   void generate_mipmaps();
   // A level's texels, tightly packed, rows from t = 0 (for Depth32FStencil8: the depth plane).
   std::vector<std::byte> read(int level = 0) const;

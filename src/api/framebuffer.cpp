@@ -180,7 +180,7 @@ Image Framebuffer::read_color(int index) const {
   for (std::size_t i = 0; i < pixels; ++i) {
     for (int c = 0; c < 4; ++c) {
       // Missing channels read as 0, a missing alpha as 1 (OpenGL's rule for R and RG formats).
-      rgba[i * 4 + c] = c < info.channels ? texels[i * std::size_t(info.channels) + c] : std::byte{c == 3 ? 255 : 0};
+      rgba[i * 4 + c] = c < info.channels ? texels[i * std::size_t(info.channels) + c] : std::byte{static_cast<unsigned char>(c == 3 ? 255 : 0)};
     }
   }
   image.rgba.resize(pixels * 4);

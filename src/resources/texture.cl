@@ -100,8 +100,9 @@ float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) {
   }
   const float2 corner = texel - 0.5f;
   const float2 base = floor(corner);
-  const float alpha = corner.x - base.x;
-  const float beta = corner.y - base.y;
+  /* fmax turns the NaN that infinite coordinates give into 0. */
+  const float alpha = fmax(corner.x - base.x, 0.0f);
+  const float beta = fmax(corner.y - base.y, 0.0f);
   const int i = clr_floor_to_int(base.x);
   const int j = clr_floor_to_int(base.y);
   const int i0 = clr_wrap(desc->wrap_s, i, size.x);
@@ -112,8 +113,8 @@ float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) {
   const float4 t10 = clr_load_texel_float(desc->format, t.data, clr_texel_index(t, level, size, i1, j0));
   const float4 t01 = clr_load_texel_float(desc->format, t.data, clr_texel_index(t, level, size, i0, j1));
   const float4 t11 = clr_load_texel_float(desc->format, t.data, clr_texel_index(t, level, size, i1, j1));
-  return (1.0f - alpha) * (1.0f - beta) * t00 + alpha * (1.0f - beta) * t10 + (1.0f - alpha) * beta * t01 +
-         alpha * beta * t11;
+  /* OpenGL's weighted sum, as lerps: equal texels give exactly their value. */
+  return mix(mix(t00, t10, alpha), mix(t01, t11, alpha), beta);
 }
 
 /* ---- Level of detail and mipmapping (sections 8.14.1, 8.14.3) --------------------------------------------- */
@@ -142,7 +143,7 @@ float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
       /* A whole lambda takes level d1 alone (and saves filtering the coarser one). */
       if (weight == 0.0f) return finer;
       const float4 coarser = clr_filter_level(t, uv, (int)d1 + 1, desc->min_filter);
-      return (1.0f - weight) * finer + weight * coarser;
+      return mix(finer, coarser, weight);
     }
     default: return clr_filter_level(t, uv, 0, desc->min_filter); /* CLR_MIP_NONE */
   }
@@ -161,22 +162,21 @@ float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
 
 /* ---- Mipmap generation ------------------------------------------------------------------------------------ */
 
-/* Level source_level + 1 from source_level with a 2x2 box filter, one work-item per destination texel.
- * A side of one texel averages it with itself (the source coordinate is clamped). Texels are averaged
- * decoded, so sRGB levels are averaged in linear space and encoded again. Not for integer formats. */
+/* Level source_level + 1 from source_level, one work-item per destination texel: the source level
+ * sampled bilinearly at the destination texel's centre, so `desc` must describe the texture with a
+ * linear, clamp-to-edge sampler. This is what Mesa's glGenerateMipmap does (a linear blit from level
+ * to level): where a side halves exactly, it is a 2x2 box filter; where it is odd (5 -> 2), the
+ * source texels are weighted by how far each destination centre falls between them (1.25 -> texels 0
+ * and 1, weighted 1/4 and 3/4). Texels are filtered decoded, so sRGB levels are filtered in linear
+ * space and encoded again. Not for integer formats. */
 __kernel void texture_downsample(__global uchar* data, __constant const TextureDesc* desc, int source_level) {
   const clr_texture t = {data, desc};
-  const int2 source = clr_texture_size(t, source_level);
   const int2 target = clr_texture_size(t, source_level + 1);
   const uint id = get_global_id(0);
   if (id >= (uint)target.x * (uint)target.y) return;
   const int x = id % target.x;
   const int y = id / target.x;
-  const int x0 = min(2 * x, source.x - 1), x1 = min(2 * x + 1, source.x - 1);
-  const int y0 = min(2 * y, source.y - 1), y1 = min(2 * y + 1, source.y - 1);
-  const float4 sum = clr_load_texel_float(desc->format, data, clr_texel_index(t, source_level, source, x0, y0)) +
-                     clr_load_texel_float(desc->format, data, clr_texel_index(t, source_level, source, x1, y0)) +
-                     clr_load_texel_float(desc->format, data, clr_texel_index(t, source_level, source, x0, y1)) +
-                     clr_load_texel_float(desc->format, data, clr_texel_index(t, source_level, source, x1, y1));
-  clr_store_texel_float(desc->format, data, clr_texel_index(t, source_level + 1, target, x, y), 0.25f * sum);
+  const float2 centre = ((float2)((float)x, (float)y) + 0.5f) / convert_float2(target);
+  const float4 value = clr_filter_level(t, centre, source_level, CLR_FILTER_LINEAR);
+  clr_store_texel_float(desc->format, data, clr_texel_index(t, source_level + 1, target, x, y), value);
 }

@@ -64,6 +64,37 @@ typedef float clr_float;
 #define CLR_FORMAT_RGBA32UI 11
 #define CLR_FORMAT_DEPTH32F 12
 #define CLR_FORMAT_DEPTH32F_STENCIL8 13
+#define CLR_FORMAT_COUNT 14
+
+/* How a format stores one channel. */
+#define CLR_CHANNEL_UNORM8 0  /* byte c, read as c / 255 */
+#define CLR_CHANNEL_SRGB8 1   /* as UNORM8, but the first three channels are sRGB-encoded (alpha is not) */
+#define CLR_CHANNEL_FLOAT16 2 /* IEEE half */
+#define CLR_CHANNEL_FLOAT32 3
+#define CLR_CHANNEL_SINT32 4
+#define CLR_CHANNEL_UINT32 5
+#define CLR_CHANNEL_BYTES(type) ((type) <= CLR_CHANNEL_SRGB8 ? 1 : (type) == CLR_CHANNEL_FLOAT16 ? 2 : 4)
+
+/* The format table: one row per CLR_FORMAT_*, in order. A texel is `channels` channels of one type,
+ * packed (bytes per texel = channels * CLR_CHANNEL_BYTES(type)); depth formats keep their depth in
+ * the first channel, and a stencil format adds a stencil byte per texel in a second plane
+ * (TextureDesc::stencil_offset). The host's format_info and the kernels' texel loads and stores
+ * (resources/format.cl) both expand it, with X(id, name, channels, channel type, depth, stencil). */
+#define CLR_FORMAT_TABLE(X)                                                   \
+  X(CLR_FORMAT_R8, "R8", 1, CLR_CHANNEL_UNORM8, 0, 0)                         \
+  X(CLR_FORMAT_RG8, "RG8", 2, CLR_CHANNEL_UNORM8, 0, 0)                       \
+  X(CLR_FORMAT_RGBA8, "RGBA8", 4, CLR_CHANNEL_UNORM8, 0, 0)                   \
+  X(CLR_FORMAT_SRGB8_A8, "SRGB8_A8", 4, CLR_CHANNEL_SRGB8, 0, 0)              \
+  X(CLR_FORMAT_R32F, "R32F", 1, CLR_CHANNEL_FLOAT32, 0, 0)                    \
+  X(CLR_FORMAT_RG32F, "RG32F", 2, CLR_CHANNEL_FLOAT32, 0, 0)                  \
+  X(CLR_FORMAT_RGBA16F, "RGBA16F", 4, CLR_CHANNEL_FLOAT16, 0, 0)              \
+  X(CLR_FORMAT_RGBA32F, "RGBA32F", 4, CLR_CHANNEL_FLOAT32, 0, 0)              \
+  X(CLR_FORMAT_R32I, "R32I", 1, CLR_CHANNEL_SINT32, 0, 0)                     \
+  X(CLR_FORMAT_R32UI, "R32UI", 1, CLR_CHANNEL_UINT32, 0, 0)                   \
+  X(CLR_FORMAT_RGBA32I, "RGBA32I", 4, CLR_CHANNEL_SINT32, 0, 0)               \
+  X(CLR_FORMAT_RGBA32UI, "RGBA32UI", 4, CLR_CHANNEL_UINT32, 0, 0)             \
+  X(CLR_FORMAT_DEPTH32F, "Depth32F", 1, CLR_CHANNEL_FLOAT32, 1, 0)            \
+  X(CLR_FORMAT_DEPTH32F_STENCIL8, "Depth32FStencil8", 1, CLR_CHANNEL_FLOAT32, 1, 1)
 
 /* In the order of clraster::Filter, MipFilter and Wrap. */
 #define CLR_FILTER_NEAREST 0
