@@ -508,7 +508,8 @@ std::string gltf_embedded_image(const fs::path& path, const nlohmann::json& docu
   return data_uri_bytes(image["uri"].get<std::string>());
 }
 
-// Component `c` of element `i` of a glTF accessor, read as T.
+// A glTF accessor's elements: component c of element i starts at byte offset + i * stride +
+// c * sizeof(T) of the buffer view.
 struct GltfAccessor {
   std::string view;  // the accessor's buffer view
   std::size_t offset;
@@ -604,9 +605,10 @@ TEST(LoadModel, GltfTexcoordsAreTheFilesWithVUp) {
   EXPECT_EQ(texcoord(box, 2), glm::dvec2(6, 1.0f - 0.99999988f));
 }
 
-// Defined by the file order of the parts' draws, and in the glTF material each one names (-1:
-// none, which assimp gives its default material): runs of draws with the same material, with
-// materials numbered in the order of their first run.
+// Checks a glTF file's model against the file: the parts are the runs of draws, in file order,
+// with the same glTF material (or none, which assimp gives a default material); the materials are
+// numbered in the order of their first part and have the name, baseColorFactor and
+// baseColorTexture of the glTF material.
 void expect_gltf_materials_and_parts(const fs::path& path, const Model& model) {
   const nlohmann::json document = gltf_document(path);
   std::vector<ModelPart> parts;
