@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <assimp/DefaultLogger.hpp>
 #include <atomic>
 #include <cmath>
@@ -12,14 +13,20 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <numeric>
+#include <ostream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "clraster/clraster.hpp"
@@ -28,12 +35,20 @@
 #include "io/model_loader.hpp"
 
 namespace clraster::io {
+
+// For gtest's messages; found by argument-dependent lookup, so in ModelPart's namespace.
+void PrintTo(const ModelPart& part, std::ostream* out) {
+  *out << "{first_index " << part.first_index << ", index_count " << part.index_count << ", material "
+       << part.material << "}";
+}
+
 namespace {
 
 using test::corner;
 using test::face_cross;
 using test::normal;
 using test::position;
+using test::texcoord;
 
 namespace fs = std::filesystem;
 
@@ -52,7 +67,7 @@ testing::AssertionResult near(glm::dvec3 actual, glm::dvec3 expected, double tol
   return testing::AssertionFailure() << text(actual) << " is not within " << tolerance << " of " << text(expected);
 }
 
-Mesh load(const fs::path& path) {
+Model load(const fs::path& path) {
   std::vector<std::string> warnings;
   return load_model(path.string(), warnings);
 }
@@ -167,22 +182,35 @@ std::size_t binary_stl_triangles(const fs::path& path) {
   return count;
 }
 
-nlohmann::json gltf_document(const fs::path& path) {
-  const std::string bytes = read_text(path);
-  if (path.extension() != ".glb") return nlohmann::json::parse(bytes);
-  // A 12-byte header, then the JSON chunk: its length, its type, its bytes.
-  std::uint32_t json_length = 0;
-  std::memcpy(&json_length, bytes.data() + 12, sizeof json_length);
-  return nlohmann::json::parse(bytes.substr(20, json_length));
+// Chunk `index` of a .glb file: a 12-byte header, then chunks of their length, their type and
+// their bytes; the JSON chunk first, then the binary one.
+std::string glb_chunk(const std::string& bytes, int index) {
+  std::size_t at = 12;
+  for (int chunk = 0;; ++chunk) {
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + at, sizeof length);
+    if (chunk == index) return bytes.substr(at + 8, length);
+    at += 8 + std::size_t{length};
+  }
 }
 
-// Triangles of the default scene: every mesh instance of the node tree, by primitive mode.
-std::size_t gltf_triangles(const fs::path& path) {
-  const nlohmann::json document = gltf_document(path);
+nlohmann::json gltf_document(const fs::path& path) {
+  const std::string bytes = read_text(path);
+  return nlohmann::json::parse(path.extension() == ".glb" ? glb_chunk(bytes, 0) : bytes);
+}
+
+// One triangle primitive of one mesh instance of the default scene, in the order load_model
+// visits them: depth first, a node's mesh before its children.
+struct GltfDraw {
+  const nlohmann::json* primitive;  // in the document
+  std::size_t triangles;            // by primitive mode
+};
+
+std::vector<GltfDraw> gltf_draws(const nlohmann::json& document) {
   const auto& accessors = document["accessors"];
-  std::function<std::size_t(std::size_t)> node_triangles = [&](std::size_t index) {
+  std::vector<GltfDraw> draws;
+  std::function<void(std::size_t)> visit = [&](std::size_t index) {
     const auto& node = document["nodes"][index];
-    std::size_t triangles = 0;
     if (node.contains("mesh")) {
       for (const auto& primitive : document["meshes"][node["mesh"].get<std::size_t>()]["primitives"]) {
         // Corners: the index count, or the vertex count when the primitive has no indices.
@@ -190,15 +218,20 @@ std::size_t gltf_triangles(const fs::path& path) {
             primitive.contains("indices") ? primitive["indices"] : primitive["attributes"]["POSITION"];
         const auto corners = accessors[corner_accessor.get<std::size_t>()]["count"].get<std::size_t>();
         const int mode = primitive.value("mode", 4);
-        if (mode == 4) triangles += corners / 3;
-        if (mode == 5 || mode == 6) triangles += corners - 2;
+        if (mode == 4) draws.push_back({&primitive, corners / 3});
+        if (mode == 5 || mode == 6) draws.push_back({&primitive, corners - 2});
       }
     }
-    for (const auto& child : node.value("children", nlohmann::json::array())) triangles += node_triangles(child);
-    return triangles;
+    for (const auto& child : node.value("children", nlohmann::json::array())) visit(child);
   };
+  for (const auto& root : document["scenes"][document.value("scene", 0)]["nodes"]) visit(root);
+  return draws;
+}
+
+std::size_t gltf_triangles(const fs::path& path) {
+  const nlohmann::json document = gltf_document(path);
   std::size_t triangles = 0;
-  for (const auto& root : document["scenes"][document.value("scene", 0)]["nodes"]) triangles += node_triangles(root);
+  for (const GltfDraw& draw : gltf_draws(document)) triangles += draw.triangles;
   return triangles;
 }
 
@@ -426,6 +459,534 @@ TEST(LoadModel, GltfWithInfinitiesLoads) {
   const Mesh mesh = load(kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb");
   EXPECT_EQ(mesh.triangle_count(), 12u);
   EXPECT_TRUE(std::any_of(mesh.positions.begin(), mesh.positions.end(), [](float x) { return !std::isfinite(x); }));
+}
+
+// ---- Texture coordinates, materials and parts ----------------------------------------------------
+
+std::string as_string(const std::vector<std::byte>& bytes) {
+  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+std::string base64_decoded(std::string_view text) {
+  constexpr std::string_view kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string bytes;
+  std::uint32_t bits = 0;
+  int bit_count = 0;
+  for (char c : text) {
+    const std::size_t value = kAlphabet.find(c);
+    if (value == std::string_view::npos) continue;  // '=' padding
+    bits = bits << 6 | static_cast<std::uint32_t>(value);
+    bit_count += 6;
+    if (bit_count >= 8) {
+      bit_count -= 8;
+      bytes += static_cast<char>(bits >> bit_count & 0xff);
+    }
+  }
+  return bytes;
+}
+
+// The bytes of a base64 data: URI ("data:image/png;base64,...").
+std::string data_uri_bytes(std::string_view uri) { return base64_decoded(uri.substr(uri.find(',') + 1)); }
+
+// Buffer `index` of a glTF file: a file beside it, a data: URI, or a .glb's binary chunk.
+std::string gltf_buffer(const fs::path& path, const nlohmann::json& document, std::size_t index) {
+  const auto& buffer = document["buffers"][index];
+  if (!buffer.contains("uri")) return glb_chunk(read_text(path), 1);
+  const std::string uri = buffer["uri"];
+  return uri.starts_with("data:") ? data_uri_bytes(uri) : read_text(path.parent_path() / uri);
+}
+
+std::string gltf_buffer_view(const fs::path& path, const nlohmann::json& document, std::size_t index) {
+  const auto& view = document["bufferViews"][index];
+  return gltf_buffer(path, document, view["buffer"])
+      .substr(view.value("byteOffset", std::size_t{0}), view["byteLength"].get<std::size_t>());
+}
+
+// The bytes of an image file that a glTF file embeds, in a buffer view or a data: URI.
+std::string gltf_embedded_image(const fs::path& path, const nlohmann::json& document, const nlohmann::json& image) {
+  if (image.contains("bufferView")) return gltf_buffer_view(path, document, image["bufferView"]);
+  return data_uri_bytes(image["uri"].get<std::string>());
+}
+
+// A glTF accessor's elements: component c of element i starts at byte offset + i * stride +
+// c * sizeof(T) of the buffer view.
+struct GltfAccessor {
+  std::string view;  // the accessor's buffer view
+  std::size_t offset;
+  std::size_t stride;
+  int component_type;
+
+  template <typename T>
+  T component(std::size_t i, int c) const {
+    T value;
+    std::memcpy(&value, view.data() + offset + i * stride + c * sizeof(T), sizeof value);
+    return value;
+  }
+  std::size_t index(std::size_t i) const {
+    switch (component_type) {
+      case 5121: return component<std::uint8_t>(i, 0);
+      case 5123: return component<std::uint16_t>(i, 0);
+      default: return component<std::uint32_t>(i, 0);
+    }
+  }
+};
+
+GltfAccessor gltf_accessor(const fs::path& path, const nlohmann::json& document, std::size_t index) {
+  const auto& accessor = document["accessors"][index];
+  const int component_type = accessor["componentType"];
+  const std::size_t component_size = component_type == 5121 ? 1 : component_type == 5123 ? 2 : 4;
+  const std::string type = accessor["type"];
+  const std::size_t components = type == "SCALAR" ? 1 : type == "VEC2" ? 2 : type == "VEC3" ? 3 : 4;
+  const auto& view = document["bufferViews"][accessor["bufferView"].get<std::size_t>()];
+  return {gltf_buffer_view(path, document, accessor["bufferView"]), accessor.value("byteOffset", std::size_t{0}),
+          view.value("byteStride", components * component_size), component_type};
+}
+
+// The texture coordinates that load_model gives a glTF file's model, read from the file: each
+// draw's TEXCOORD_0 (floats) with v turned up, vertex by vertex, or corner by corner for
+// primitives without normals, which get flat normals; (0, 0) for draws without them, and none at
+// all when no draw has them.
+std::vector<float> gltf_texcoords(const fs::path& path) {
+  const nlohmann::json document = gltf_document(path);
+  std::vector<float> texcoords;
+  bool any = false;
+  for (const GltfDraw& draw : gltf_draws(document)) {
+    const nlohmann::json& primitive = *draw.primitive;
+    const auto& attributes = primitive["attributes"];
+    EXPECT_EQ(primitive.value("mode", 4), 4) << "only triangle lists are read here";
+    std::vector<std::size_t> vertices(
+        document["accessors"][attributes["POSITION"].get<std::size_t>()]["count"].get<std::size_t>());
+    std::iota(vertices.begin(), vertices.end(), std::size_t{0});
+    if (!attributes.contains("NORMAL") && primitive.contains("indices")) {
+      const GltfAccessor indices = gltf_accessor(path, document, primitive["indices"]);
+      vertices.resize(3 * draw.triangles);
+      for (std::size_t corner = 0; corner < vertices.size(); ++corner) vertices[corner] = indices.index(corner);
+    }
+    if (!attributes.contains("TEXCOORD_0")) {
+      texcoords.resize(texcoords.size() + 2 * vertices.size(), 0.0f);
+      continue;
+    }
+    any = true;
+    const GltfAccessor uv = gltf_accessor(path, document, attributes["TEXCOORD_0"]);
+    EXPECT_EQ(uv.component_type, 5126);
+    for (std::size_t v : vertices) {
+      texcoords.insert(texcoords.end(), {uv.component<float>(v, 0), 1.0f - uv.component<float>(v, 1)});
+    }
+  }
+  return any ? texcoords : std::vector<float>{};
+}
+
+// glTF samples with materials, most with textures: in files of their own, in a .glb's binary chunk
+// and in data: URIs.
+constexpr const char* kGltfWithMaterials[] = {
+    "glTF2/BoxTextured-glTF/BoxTextured.gltf",
+    "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb",
+    "glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf",
+    "glTF2/BoxTexcoords-glTF/boxTexcoords.gltf",
+    "glTF2/ClearCoat-glTF/ClearCoatTest.gltf",
+    "glTF2/textureTransform/TextureTransformTest.gltf",
+    "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+};
+
+TEST(LoadModel, GltfTexcoordsAreTheFilesWithVUp) {
+  for (const char* file : kGltfWithMaterials) {
+    SCOPED_TRACE(file);
+    const fs::path path = kModels / file;
+    const Model model = load(path);
+    const std::vector<float> expected = gltf_texcoords(path);
+    EXPECT_EQ(model.texcoords.size(), expected.empty() ? 0 : 2 * model.vertex_count());
+    EXPECT_EQ(model.texcoords, expected);
+  }
+  // The first vertices of BoxTextured0.bin: (6, 0) and (6, 0.99999988), so v turned up is 1 and
+  // 1 - 0.99999988.
+  const Model box = load(kModels / "glTF2/BoxTextured-glTF/BoxTextured.gltf");
+  ASSERT_EQ(box.texcoords.size(), 2 * 24u);
+  EXPECT_EQ(texcoord(box, 0), glm::dvec2(6, 1));
+  EXPECT_EQ(texcoord(box, 2), glm::dvec2(6, 1.0f - 0.99999988f));
+}
+
+// Checks a glTF file's model against the file: the parts are the runs of draws, in file order,
+// with the same glTF material (or none, which assimp gives a default material); the materials are
+// numbered in the order of their first part and have the name, baseColorFactor and
+// baseColorTexture of the glTF material.
+void expect_gltf_materials_and_parts(const fs::path& path, const Model& model) {
+  const nlohmann::json document = gltf_document(path);
+  std::vector<ModelPart> parts;
+  std::vector<int> gltf_materials;  // of each model material
+  std::uint32_t first_index = 0;
+  for (const GltfDraw& draw : gltf_draws(document)) {
+    const int gltf_material = draw.primitive->value("material", -1);
+    const auto found = std::find(gltf_materials.begin(), gltf_materials.end(), gltf_material);
+    const auto material = static_cast<std::uint32_t>(found - gltf_materials.begin());
+    if (found == gltf_materials.end()) gltf_materials.push_back(gltf_material);
+    const auto index_count = static_cast<std::uint32_t>(3 * draw.triangles);
+    if (!parts.empty() && parts.back().material == material) {
+      parts.back().index_count += index_count;
+    } else {
+      parts.push_back({first_index, index_count, material});
+    }
+    first_index += index_count;
+  }
+  EXPECT_EQ(model.parts, parts);
+  ASSERT_EQ(model.materials.size(), gltf_materials.size());
+
+  for (std::size_t m = 0; m < gltf_materials.size(); ++m) {
+    SCOPED_TRACE("material " + std::to_string(m));
+    const Material& material = model.materials[m];
+    const nlohmann::json source =
+        gltf_materials[m] < 0 ? nlohmann::json::object() : document["materials"][gltf_materials[m]];
+    EXPECT_EQ(material.name, source.value("name", ""));
+    const nlohmann::json pbr = source.value("pbrMetallicRoughness", nlohmann::json::object());
+    const auto factor = pbr.value("baseColorFactor", std::vector<double>{1, 1, 1, 1});
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(material.base_color_factor[c], static_cast<float>(factor[c]));
+    if (!pbr.contains("baseColorTexture")) {
+      EXPECT_FALSE(material.base_color_texture);
+      continue;
+    }
+    ASSERT_TRUE(material.base_color_texture);
+    const MaterialTexture& texture = *material.base_color_texture;
+    const auto& info = pbr["baseColorTexture"];
+    EXPECT_EQ(texture.uv_channel, info.value("texCoord", 0u));
+    const auto& gltf_texture = document["textures"][info["index"].get<std::size_t>()];
+    const auto& image = document["images"][gltf_texture["source"].get<std::size_t>()];
+    const std::string uri = image.value("uri", "");
+    if (uri.empty() || uri.starts_with("data:")) {
+      EXPECT_TRUE(texture.embedded());
+      EXPECT_EQ(as_string(texture.encoded), gltf_embedded_image(path, document, image));
+      EXPECT_EQ(texture.format_hint, image["mimeType"] == "image/jpeg" ? "jpg" : "png");
+    } else {
+      EXPECT_EQ(texture.reference, uri);
+      EXPECT_EQ(texture.file, (path.parent_path() / uri).string());
+      EXPECT_TRUE(texture.encoded.empty());
+    }
+  }
+}
+
+TEST(LoadModel, GltfMaterialsAndPartsMatchTheFiles) {
+  for (const char* file : kGltfWithMaterials) {
+    SCOPED_TRACE(file);
+    const fs::path path = kModels / file;
+    expect_gltf_materials_and_parts(path, load(path));
+  }
+}
+
+TEST(LoadModel, GltfBaseColourTexturesInFilesAndEmbedded) {
+  // One box, one part, its texture (2433 bytes of PNG) beside the file, in the .glb's binary chunk
+  // and in a data: URI.
+  const fs::path directory = kModels / "glTF2/BoxTextured-glTF";
+  const std::string png = read_text(directory / "CesiumLogoFlat.png");
+  ASSERT_EQ(png.size(), 2433u);
+  for (const char* file : {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb",
+                           "BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
+    SCOPED_TRACE(file);
+    std::vector<std::string> warnings;
+    const Model model = load_model((kModels / "glTF2" / file).string(), warnings);
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_TRUE(model.material_warnings.empty());
+    EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, 36, 0}}));
+    ASSERT_EQ(model.materials.size(), 1u);
+    const Material& material = model.materials[0];
+    EXPECT_EQ(material.name, "Texture");
+    EXPECT_EQ(material.base_color_factor, (std::array<float, 4>{1, 1, 1, 1}));
+    ASSERT_TRUE(material.base_color_texture);
+    const MaterialTexture& texture = *material.base_color_texture;
+    EXPECT_EQ(texture.uv_channel, 0u);
+    if (std::string_view(file).starts_with("BoxTextured-glTF/")) {
+      EXPECT_FALSE(texture.embedded());
+      EXPECT_EQ(texture.reference, "CesiumLogoFlat.png");
+      EXPECT_EQ(texture.file, (directory / "CesiumLogoFlat.png").string());
+    } else {
+      EXPECT_TRUE(texture.embedded());
+      EXPECT_EQ(texture.reference, "*0");
+      EXPECT_EQ(as_string(texture.encoded), png);
+      EXPECT_EQ(texture.format_hint, "png");
+    }
+  }
+}
+
+// Materials of an MTL file by name.
+struct MtlMaterial {
+  std::array<float, 4> diffuse{};
+  std::string diffuse_map;  // the rest of the map_Kd line
+};
+
+std::map<std::string, MtlMaterial> mtl_materials(const fs::path& path) {
+  std::map<std::string, MtlMaterial> materials;
+  MtlMaterial* current = nullptr;
+  std::istringstream lines(read_text(path));
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "newmtl") {
+      std::string name;
+      words >> name;
+      current = &materials[name];
+    } else if (keyword == "Kd") {
+      words >> current->diffuse[0] >> current->diffuse[1] >> current->diffuse[2];
+      current->diffuse[3] = 1;
+    } else if (keyword == "map_Kd") {
+      words >> std::ws;
+      std::getline(words, current->diffuse_map);
+    }
+  }
+  return materials;
+}
+
+TEST(LoadModel, ObjMaterialsPartsAndTexcoordsMatchTheFiles) {
+  // spider.obj: 'usemtl' runs of faces; spider.mtl: Kd and map_Kd, with Windows paths (".\x.jpg").
+  const fs::path path = kModels / "OBJ/spider.obj";
+  struct Run {
+    std::string material;
+    std::size_t triangles;
+  };
+  std::vector<Run> runs;
+  std::vector<glm::dvec3> file_positions;
+  std::vector<glm::dvec2> file_texcoords;
+  std::vector<std::string> first_face;
+  std::istringstream lines(read_text(path));
+  std::string material;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "v") {
+      glm::dvec3& p = file_positions.emplace_back();
+      words >> p.x >> p.y >> p.z;
+    }
+    if (keyword == "vt") {
+      glm::dvec2& uv = file_texcoords.emplace_back();
+      words >> uv.x >> uv.y;
+    }
+    if (keyword == "usemtl") words >> material;
+    if (keyword != "f") continue;
+    std::vector<std::string> corners{std::istream_iterator<std::string>(words), {}};
+    if (first_face.empty()) first_face = corners;
+    if (runs.empty() || runs.back().material != material) runs.push_back({material, 0});
+    runs.back().triangles += corners.size() - 2;
+  }
+  const std::map<std::string, MtlMaterial> mtl = mtl_materials(kModels / "OBJ/spider.mtl");
+
+  std::vector<std::string> warnings;
+  const Model model = load_model(path.string(), warnings);
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_TRUE(model.material_warnings.empty());
+  ASSERT_EQ(model.parts.size(), runs.size());
+  std::uint32_t first_index = 0;
+  for (std::size_t p = 0; p < runs.size(); ++p) {
+    SCOPED_TRACE("part " + std::to_string(p) + ", " + runs[p].material);
+    const ModelPart& part = model.parts[p];
+    EXPECT_EQ(part.first_index, first_index);
+    EXPECT_EQ(part.index_count, 3 * runs[p].triangles);
+    first_index += part.index_count;
+    ASSERT_LT(part.material, model.materials.size());
+    const Material& loaded = model.materials[part.material];
+    EXPECT_EQ(loaded.name, runs[p].material);
+    const MtlMaterial& expected = mtl.at(runs[p].material);
+    for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(loaded.base_color_factor[c], expected.diffuse[c]);
+    ASSERT_TRUE(loaded.base_color_texture);
+    const MaterialTexture& texture = *loaded.base_color_texture;
+    EXPECT_EQ(texture.reference, expected.diffuse_map);
+    std::string with_slashes = expected.diffuse_map;
+    std::replace(with_slashes.begin(), with_slashes.end(), '\\', '/');
+    EXPECT_EQ(texture.file, (kModels / "OBJ" / with_slashes).string());
+    EXPECT_TRUE(fs::is_regular_file(texture.file));
+  }
+  EXPECT_EQ(first_index, model.indices.size());
+  // Materials in the order of their first part; the file's unused ones (Brusttex, assimp's
+  // DefaultMaterial) are left out.
+  std::uint32_t next_new_material = 0;
+  for (const ModelPart& part : model.parts) {
+    EXPECT_LE(part.material, next_new_material);
+    next_new_material += part.material == next_new_material;
+  }
+  EXPECT_EQ(next_new_material, model.materials.size());
+  EXPECT_EQ(model.materials.size(), 4u);
+
+  // The first face, "f 1/1/1 2/2/2 3/3/3": assimp gives each corner its own vertex, in order.
+  ASSERT_EQ(model.texcoords.size(), 2 * model.vertex_count());
+  ASSERT_EQ(first_face.size(), 3u);
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const std::size_t reference = std::stoul(first_face[k]) - 1;  // v/vt/vn, the same number thrice
+    EXPECT_TRUE(near(position(model, k), file_positions[reference], 1e-5));
+    EXPECT_TRUE(near(glm::dvec3(texcoord(model, k), 0), glm::dvec3(file_texcoords[reference], 0), 1e-6));
+  }
+}
+
+TEST(LoadModel, ColladaDuckHasItsTextureBesideIt) {
+  const fs::path path = kModels / "Collada/duck.dae";
+  const Model model = load(path);
+  EXPECT_EQ(model.texcoords.size(), 2 * model.vertex_count());
+  EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, static_cast<std::uint32_t>(model.indices.size()), 0}}));
+  ASSERT_EQ(model.materials.size(), 1u);
+  // <diffuse><texture texture="file2-sampler"/></diffuse>, the sampler's image "./duckCM.tga".
+  EXPECT_EQ(model.materials[0].base_color_factor, (std::array<float, 4>{1, 1, 1, 1}));
+  ASSERT_TRUE(model.materials[0].base_color_texture);
+  EXPECT_EQ(model.materials[0].base_color_texture->reference, "./duckCM.tga");
+  EXPECT_TRUE(fs::is_regular_file(model.materials[0].base_color_texture->file));
+}
+
+TEST(LoadModel, TexturesEmbeddedAsRawTexelsAreLeftOutWithAWarning) {
+  // Half-Life MDL skins: raw texels, which materials name by their file names.
+  std::vector<std::string> warnings;
+  const Model model = load_model((kModels / "MDL/MDL (HL1)/man.mdl").string(), warnings);
+  EXPECT_TRUE(warnings.empty());  // those are about the geometry
+  const std::vector<std::string>& material_warnings = model.material_warnings;
+  ASSERT_EQ(material_warnings.size(), model.materials.size());
+  for (std::size_t m = 0; m < model.materials.size(); ++m) {
+    const Material& material = model.materials[m];
+    EXPECT_EQ(material.name, "");
+    EXPECT_EQ(material.base_color_factor, (std::array<float, 4>{1, 1, 1, 1}));  // no colour in the file
+    EXPECT_FALSE(material.base_color_texture);
+    const std::string& warning = material_warnings[m];
+    EXPECT_TRUE(warning.starts_with("material " + std::to_string(m) + ": its base colour texture '")) << warning;
+    EXPECT_TRUE(warning.ends_with(".bmp' is embedded as raw texels, which are not loaded")) << warning;
+  }
+}
+
+TEST(LoadModel, ModelsWithoutTexcoordsHaveNone) {
+  const Model model = load(kModels / "OBJ/box.obj");
+  EXPECT_TRUE(model.texcoords.empty());
+  EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, 36, 0}}));
+  ASSERT_EQ(model.materials.size(), 1u);
+  EXPECT_EQ(model.materials[0].name, "Default");
+  // No material file: assimp's default diffuse colour.
+  EXPECT_EQ(model.materials[0].base_color_factor, (std::array<float, 4>{0.6f, 0.6f, 0.6f, 1}));
+  EXPECT_FALSE(model.materials[0].base_color_texture);
+}
+
+// A quad of two triangles with texture coordinates and a third triangle without, in three
+// 'usemtl' runs: "painted", "plain", "painted" again.
+constexpr const char* kTexturedObj = R"(mtllib materials.mtl
+v 0 0 0
+v 1 0 0
+v 0 1 0
+v 1 1 0
+vt 0.25 0.5
+vt 1 0
+vt 0 0.75
+vt 1 1
+usemtl painted
+f 1/1 2/2 3/3
+f 2/2 4/4 3/3
+usemtl plain
+f 1 2 4
+usemtl painted
+f 1/4 2/1 3/2
+)";
+
+TEST_F(CraftedModel, ObjMaterialFactorsTexturePathsAndTexcoords) {
+  // Texture paths as the file gives them: none of these files exist, which is the renderer's to
+  // report.
+  write("materials.mtl", "newmtl painted\nKd 0.5 0.25 0.125\nmap_Kd textures\\wood.png\n"
+                         "newmtl plain\nKd 0.1 0.2 0.3\nmap_Kd ../elsewhere/missing.png\n");
+  std::vector<std::string> warnings;
+  const Model model = load_model(write("model.obj", kTexturedObj).string(), warnings);
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_TRUE(model.material_warnings.empty());
+  ASSERT_EQ(model.triangle_count(), 4u);
+  EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, 6, 0}, {6, 3, 1}, {9, 3, 0}}));
+
+  ASSERT_EQ(model.materials.size(), 2u);
+  const Material& painted = model.materials[0];
+  EXPECT_EQ(painted.name, "painted");
+  EXPECT_EQ(painted.base_color_factor, (std::array<float, 4>{0.5f, 0.25f, 0.125f, 1}));
+  ASSERT_TRUE(painted.base_color_texture);
+  EXPECT_EQ(painted.base_color_texture->reference, "textures\\wood.png");
+  EXPECT_EQ(painted.base_color_texture->file, (directory_ / "textures/wood.png").string());
+  EXPECT_FALSE(painted.base_color_texture->embedded());
+  const Material& plain = model.materials[1];
+  EXPECT_EQ(plain.name, "plain");
+  EXPECT_EQ(plain.base_color_factor, (std::array<float, 4>{0.1f, 0.2f, 0.3f, 1}));
+  ASSERT_TRUE(plain.base_color_texture);
+  EXPECT_EQ(plain.base_color_texture->reference, "../elsewhere/missing.png");
+  EXPECT_EQ(plain.base_color_texture->file, (directory_ / "../elsewhere/missing.png").string());
+
+  // Each face corner its own vertex, in order; the triangle without texture coordinates gets (0, 0).
+  const std::vector<float> expected = {0.25f, 0.5f, 1, 0, 0, 0.75f,  1, 0, 1, 1, 0, 0.75f,
+                                       0, 0, 0, 0, 0, 0,             1, 1, 0.25f, 0.5f, 1, 0};
+  EXPECT_EQ(model.texcoords, expected);
+}
+
+// Mesh 0: a triangle without normals (so flat normals, every corner its own vertex) with two
+// texture coordinate sets; its material takes the base colour texture from the second. Mesh 1:
+// the same triangle without texture coordinates, and without a material.
+constexpr const char* kTwoSetsGltf = R"({
+  "asset": {"version": "2.0"},
+  "buffers": [{"uri": "data.bin", "byteLength": 66}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                  {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                  {"buffer": 0, "byteOffset": 60, "byteLength": 6}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"},
+                {"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+  "images": [{"uri": "../images/albedo.png"}],
+  "textures": [{"source": 0}],
+  "materials": [{"name": "second set",
+                 "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 0.75],
+                                          "baseColorTexture": {"index": 0, "texCoord": 1}}}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 1},
+                              "indices": 2, "material": 0}]},
+             {"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "nodes": [{"mesh": 0}, {"mesh": 1}],
+  "scenes": [{"nodes": [0, 1]}],
+  "scene": 0
+})";
+
+TEST_F(CraftedModel, GltfTextureOfAnotherSetFlatNormalsAndNoMaterial) {
+  write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}) + bytes_of<float>({0.25f, 0.5f, 1, 0, 0, 0.75f}) +
+                        bytes_of<std::uint16_t>({2, 0, 1}));
+  const fs::path path = write("two_sets.gltf", kTwoSetsGltf);
+  std::vector<std::string> warnings;
+  const Model model = load_model(path.string(), warnings);
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_EQ(model.material_warnings,
+            std::vector<std::string>{"material 'second set': its base colour texture is mapped by texture "
+                                     "coordinate set 1, which is not loaded (only set 0 is)"});
+  // Corner by corner (indices 2, 0, 1), v turned up; then mesh 1's three vertices at (0, 0).
+  EXPECT_EQ(model.texcoords, (std::vector<float>{0, 0.25f, 0.25f, 0.5f, 1, 1, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(model.texcoords, gltf_texcoords(path));
+  EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, 3, 0}, {3, 3, 1}}));
+  expect_gltf_materials_and_parts(path, model);
+
+  ASSERT_EQ(model.materials.size(), 2u);
+  EXPECT_EQ(model.materials[0].base_color_factor, (std::array<float, 4>{0.5f, 0.25f, 1, 0.75f}));
+  const MaterialTexture& texture = model.materials[0].base_color_texture.value();
+  EXPECT_EQ(texture.uv_channel, 1u);
+  EXPECT_EQ(texture.file, (directory_ / "../images/albedo.png").string());
+  // assimp's default material for primitives without one: no name, white, no texture.
+  EXPECT_EQ(model.materials[1].name, "");
+  EXPECT_EQ(model.materials[1].base_color_factor, (std::array<float, 4>{1, 1, 1, 1}));
+  EXPECT_FALSE(model.materials[1].base_color_texture);
+}
+
+TEST_F(CraftedModel, TextureWithoutAnImageNameIsLeftOut) {
+  write("data.bin", std::string(66, '\0'));
+  std::string gltf = kTwoSetsGltf;
+  gltf.replace(gltf.find("../images/albedo.png"), std::strlen("../images/albedo.png"), "");
+  const Model model = load(write("no_name.gltf", gltf));
+  EXPECT_FALSE(model.materials.at(0).base_color_texture);
+  EXPECT_EQ(model.material_warnings,
+            std::vector<std::string>{"material 'second set': its base colour texture names no image"});
+}
+
+TEST_F(CraftedModel, NonFiniteTexcoordsAreKept) {
+  // Like non-finite positions: as they are (v turned up: 1 - (-inf) is inf).
+  write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}) +
+                        bytes_of<float>({NAN, 0.5f, INFINITY, -INFINITY, 0, 0.75f}) +
+                        bytes_of<std::uint16_t>({0, 1, 2}));
+  const Model model = load(write("two_sets.gltf", kTwoSetsGltf));
+  ASSERT_EQ(model.texcoords.size(), 12u);
+  EXPECT_TRUE(std::isnan(model.texcoords[0]));
+  EXPECT_EQ(model.texcoords[1], 0.5f);
+  EXPECT_EQ(model.texcoords[2], INFINITY);
+  EXPECT_EQ(model.texcoords[3], INFINITY);
+
+  // assimp's OBJ reader itself reads non-finite texture coordinates as 0.
+  const Model obj =
+      load(write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0.5\nvt 0.5 inf\nvt 1 -inf\nf 1/1 2/2 3/3\n"));
+  EXPECT_EQ(obj.texcoords, (std::vector<float>{0, 0.5f, 0.5f, 0, 1, 0}));
 }
 
 // ---- Errors --------------------------------------------------------------------------------------

@@ -220,6 +220,26 @@ TEST(Merge, AppendsVerticesAndOffsetsIndices) {
   EXPECT_EQ(merge({}).vertex_count(), 0u);
 }
 
+TEST(Merge, GivesMeshesWithoutTexcoordsZerosWhenOthersHaveThem) {
+  Mesh textured = make_box({0, 0, 0}, {1, 1, 1});
+  for (std::size_t v = 0; v < textured.vertex_count(); ++v) {
+    textured.texcoords.insert(textured.texcoords.end(), {0.5f, static_cast<float>(v)});
+  }
+  const Mesh plain = make_sphere(8, 4, 1);
+  const Mesh merged = merge({plain, textured});
+  expect_well_formed(merged);
+  ASSERT_EQ(merged.texcoords.size(), 2 * merged.vertex_count());
+  EXPECT_EQ(std::vector<float>(merged.texcoords.begin(), merged.texcoords.begin() + 2 * plain.vertex_count()),
+            std::vector<float>(2 * plain.vertex_count(), 0.0f));
+  EXPECT_EQ(std::vector<float>(merged.texcoords.begin() + 2 * plain.vertex_count(), merged.texcoords.end()),
+            textured.texcoords);
+  EXPECT_TRUE(merge({plain, plain}).texcoords.empty());
+
+  Mesh short_texcoords = textured;
+  short_texcoords.texcoords.pop_back();
+  EXPECT_THROW(merge({short_texcoords}), InvalidArgument);
+}
+
 TEST(Transform, MovesPositionsAndTurnsNormals) {
   Mesh mesh = make_box({-1, -1, -1}, {1, 1, 1});
   const glm::mat4 matrix = glm::rotate(glm::translate(glm::mat4(1), glm::vec3(10, 0, 0)), glm::radians(90.0f),

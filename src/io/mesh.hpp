@@ -13,10 +13,14 @@ struct Vec3f {
   float x = 0, y = 0, z = 0;
 };
 
-// An indexed triangle list with one normal per vertex.
+// An indexed triangle list with one normal per vertex, and texture coordinates when it has them.
 struct Mesh {
   std::vector<float> positions;       // x, y, z per vertex
   std::vector<float> normals;         // x, y, z per vertex; same length as positions
+  // u, v per vertex, or none at all. v runs up the image, as in OpenGL and as assimp gives every
+  // format (it turns glTF's v around): v = 0 is the image's bottom row, so an image file whose
+  // first row is its top (PNG, JPEG) is loaded with Texture::load(..., flip_vertically = true).
+  std::vector<float> texcoords;
   std::vector<std::uint32_t> indices; // three per triangle
 
   std::size_t vertex_count() const { return positions.size() / 3; }

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -433,8 +434,9 @@ bool has_nonzero_normal(const aiMesh& source) {
                                             [](const aiVector3D& n) { return !(n.x == 0 && n.y == 0 && n.z == 0); });
 }
 
-// The triangles of one assimp mesh in its own coordinates, with the file's normals or zeros.
-// Points and lines are counted in `skipped` instead.
+// The triangles of one assimp mesh in its own coordinates, with the file's normals or zeros, and its
+// first set of texture coordinates when it has one. Points and lines are counted in `skipped`
+// instead.
 Mesh triangles_of(const aiMesh& source, bool file_normals, SkippedPrimitives& skipped, const std::string& path) {
   Mesh mesh;
   mesh.indices.reserve(3 * std::size_t{source.mNumFaces});
@@ -461,14 +463,20 @@ Mesh triangles_of(const aiMesh& source, bool file_normals, SkippedPrimitives& sk
   }
   if (mesh.indices.empty()) return mesh;
 
+  const bool file_texcoords = source.HasTextureCoords(0);
   mesh.positions.reserve(3 * std::size_t{source.mNumVertices});
   mesh.normals.assign(3 * std::size_t{source.mNumVertices}, 0.0f);
+  if (file_texcoords) mesh.texcoords.reserve(2 * std::size_t{source.mNumVertices});
   for (unsigned v = 0; v < source.mNumVertices; ++v) {
     const aiVector3D& p = source.mVertices[v];
     mesh.positions.insert(mesh.positions.end(), {p.x, p.y, p.z});
     if (file_normals) {
       const aiVector3D& n = source.mNormals[v];
       mesh.normals[3 * v] = n.x, mesh.normals[3 * v + 1] = n.y, mesh.normals[3 * v + 2] = n.z;
+    }
+    if (file_texcoords) {
+      const aiVector3D& uv = source.mTextureCoords[0][v];
+      mesh.texcoords.insert(mesh.texcoords.end(), {uv.x, uv.y});
     }
   }
   return mesh;
@@ -495,9 +503,11 @@ glm::vec3 unit_or_zero(glm::dvec3 v) {
 
 // Every triangle gets its own three vertices, carrying its face normal.
 Mesh flat_shaded(const Mesh& mesh) {
+  const bool has_texcoords = !mesh.texcoords.empty();
   Mesh flat;
   flat.positions.reserve(3 * mesh.indices.size());
   flat.normals.reserve(3 * mesh.indices.size());
+  if (has_texcoords) flat.texcoords.reserve(2 * mesh.indices.size());
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
     const glm::vec3 normal = unit_or_zero(face_normal(mesh, t));
     for (int corner = 0; corner < 3; ++corner) {
@@ -505,6 +515,9 @@ Mesh flat_shaded(const Mesh& mesh) {
       flat.indices.push_back(static_cast<std::uint32_t>(flat.vertex_count()));
       flat.positions.insert(flat.positions.end(), &mesh.positions[3 * source], &mesh.positions[3 * source + 3]);
       flat.normals.insert(flat.normals.end(), {normal.x, normal.y, normal.z});
+      if (has_texcoords) {
+        flat.texcoords.insert(flat.texcoords.end(), &mesh.texcoords[2 * source], &mesh.texcoords[2 * source + 2]);
+      }
     }
   }
   return flat;
@@ -582,11 +595,12 @@ const aiScene& read_scene(Assimp::Importer& importer, const std::string& path) {
   return *scene;
 }
 
-// The triangles of one mesh instance in model space, and whether its normals are still to be
-// computed by smooth_normals.
+// The triangles of one mesh instance in model space, whether its normals are still to be computed
+// by smooth_normals, and its material (an index into aiScene::mMaterials).
 struct Piece {
   Mesh mesh;
   bool needs_smooth_normals;
+  unsigned material;
 };
 
 // Every mesh instance of the node tree, depth first in the file's order, moved by its node's
@@ -612,11 +626,11 @@ std::vector<Piece> mesh_instances(const aiScene& scene, bool gltf, SkippedPrimit
       if (piece.indices.empty()) continue;
       transform(piece, to_glm(node_transform));
       if (file_normals) {
-        pieces.push_back({std::move(piece), false});
+        pieces.push_back({std::move(piece), false, source.mMaterialIndex});
       } else if (gltf) {
-        pieces.push_back({flat_shaded(piece), false});
+        pieces.push_back({flat_shaded(piece), false, source.mMaterialIndex});
       } else {
-        pieces.push_back({std::move(piece), true});
+        pieces.push_back({std::move(piece), true, source.mMaterialIndex});
       }
     }
     // Pushed in reverse, so that children are visited in the file's order.
@@ -625,9 +639,123 @@ std::vector<Piece> mesh_instances(const aiScene& scene, bool gltf, SkippedPrimit
   return pieces;
 }
 
+// The pieces' triangles, one after the other.
+Mesh merged(std::vector<Piece>&& pieces, const std::string& path) {
+  std::vector<Mesh> meshes;
+  meshes.reserve(pieces.size());
+  for (Piece& piece : pieces) meshes.push_back(std::move(piece.mesh));
+  try {
+    return merge(meshes);
+  } catch (const InvalidArgument& error) {  // more vertices than 32-bit indices address
+    fail(path, error.what());
+  }
+}
+
+// ---- Materials and parts ------------------------------------------------------------------------
+
+// Cuts the pieces, in order, into parts: pieces that follow each other with the same material make
+// one. Model materials are numbered in the order of their first part; `scene_materials` receives
+// each one's index in aiScene::mMaterials.
+std::vector<ModelPart> cut_into_parts(std::span<const Piece> pieces, std::vector<unsigned>& scene_materials,
+                                      const std::string& path) {
+  std::unordered_map<unsigned, std::uint32_t> model_material;
+  std::vector<ModelPart> parts;
+  std::uint64_t first_index = 0;
+  for (const Piece& piece : pieces) {
+    const auto [entry, first_use] =
+        model_material.try_emplace(piece.material, static_cast<std::uint32_t>(scene_materials.size()));
+    if (first_use) scene_materials.push_back(piece.material);
+    const std::uint64_t index_count = piece.mesh.indices.size();
+    // Parts are drawn with 32-bit DrawCall::first and count.
+    if (first_index + index_count > std::numeric_limits<std::uint32_t>::max()) {
+      fail(path, "more indices than 32-bit draws address");
+    }
+    if (!parts.empty() && parts.back().material == entry->second) {
+      parts.back().index_count += static_cast<std::uint32_t>(index_count);
+    } else {
+      parts.push_back(
+          {static_cast<std::uint32_t>(first_index), static_cast<std::uint32_t>(index_count), entry->second});
+    }
+    first_index += index_count;
+  }
+  return parts;
+}
+
+std::array<float, 4> base_color_factor(const aiMaterial& material) {
+  aiColor4D color;
+  if (material.Get(AI_MATKEY_BASE_COLOR, color) == AI_SUCCESS ||
+      material.Get(AI_MATKEY_COLOR_DIFFUSE, color) == AI_SUCCESS) {
+    return {color.r, color.g, color.b, color.a};
+  }
+  return {1, 1, 1, 1};
+}
+
+// A texture file named by a model file, which names it relative to itself. Backslashes are read as
+// directory separators: Windows tools write them into OBJ material files (spider.mtl's
+// ".\wal67ar_small.jpg"), and a file name that contains one is rare.
+std::string texture_file(const std::string& model_path, std::string reference) {
+  std::replace(reference.begin(), reference.end(), '\\', '/');
+  return (std::filesystem::path(model_path).parent_path() / reference).string();
+}
+
+// The material's base colour texture, if it has one that can be passed on. `label` names the
+// material in warnings.
+std::optional<MaterialTexture> base_color_texture(const aiMaterial& material, const aiScene& scene,
+                                                  const std::string& path, const std::string& label,
+                                                  std::vector<std::string>& warnings) {
+  aiString reference;
+  unsigned uv_channel = 0;  // left as it is when the file does not say
+  // glTF materials have their base colour texture as both; other formats have a diffuse texture.
+  if (material.GetTexture(aiTextureType_BASE_COLOR, 0, &reference, nullptr, &uv_channel) != AI_SUCCESS &&
+      material.GetTexture(aiTextureType_DIFFUSE, 0, &reference, nullptr, &uv_channel) != AI_SUCCESS) {
+    return std::nullopt;
+  }
+  MaterialTexture texture;
+  texture.reference = reference.C_Str();
+  texture.uv_channel = uv_channel;
+  // Not a path to resolve, and assimp would take it for the name of an embedded image that has none.
+  if (texture.reference.empty()) {
+    warnings.push_back(label + ": its base colour texture names no image");
+    return std::nullopt;
+  }
+  // Embedded images are named "*N", or, in some formats, by the file name they were embedded from.
+  if (const aiTexture* image = scene.GetEmbeddedTexture(reference.C_Str())) {
+    // mHeight 0 means that pcData holds mWidth bytes of an image file; otherwise it holds
+    // mWidth x mHeight texels, which nothing downstream reads.
+    if (image->mHeight != 0) {
+      warnings.push_back(label + ": its base colour texture '" + texture.reference +
+                         "' is embedded as raw texels, which are not loaded");
+      return std::nullopt;
+    }
+    const auto* bytes = reinterpret_cast<const std::byte*>(image->pcData);
+    texture.encoded.assign(bytes, bytes + image->mWidth);
+    texture.format_hint.assign(image->achFormatHint, strnlen(image->achFormatHint, sizeof image->achFormatHint));
+  } else {
+    texture.file = texture_file(path, texture.reference);
+  }
+  if (uv_channel != 0) {
+    warnings.push_back(label + ": its base colour texture is mapped by texture coordinate set " +
+                       std::to_string(uv_channel) + ", which is not loaded (only set 0 is)");
+  }
+  return texture;
+}
+
+// Model material `index`, made of scene material `scene_index`.
+Material material_of(const aiScene& scene, unsigned scene_index, std::size_t index, const std::string& path,
+                     std::vector<std::string>& warnings) {
+  const aiMaterial& source = *scene.mMaterials[scene_index];
+  Material material;
+  material.name = source.GetName().C_Str();
+  material.base_color_factor = base_color_factor(source);
+  const std::string label =
+      material.name.empty() ? "material " + std::to_string(index) : "material '" + material.name + "'";
+  material.base_color_texture = base_color_texture(source, scene, path, label, warnings);
+  return material;
+}
+
 }  // namespace
 
-Mesh load_model(const std::string& path, std::vector<std::string>& warnings) {
+Model load_model(const std::string& path, std::vector<std::string>& warnings) {
   require_readable(path);
   Assimp::Importer importer;
   const aiScene& scene = read_scene(importer, path);
@@ -648,15 +776,14 @@ Mesh load_model(const std::string& path, std::vector<std::string>& warnings) {
   }
   smooth_normals(to_smooth);
 
-  std::vector<Mesh> meshes;
-  meshes.reserve(pieces.size());
-  for (Piece& piece : pieces) meshes.push_back(std::move(piece.mesh));
-  Mesh model;
-  try {
-    model = merge(meshes);
-  } catch (const InvalidArgument& error) {  // more vertices than 32-bit indices address
-    fail(path, error.what());
+  std::vector<unsigned> scene_materials;
+  std::vector<ModelPart> parts = cut_into_parts(pieces, scene_materials, path);
+  std::vector<Material> materials;
+  std::vector<std::string> material_warnings;
+  for (unsigned scene_index : scene_materials) {
+    materials.push_back(material_of(scene, scene_index, materials.size(), path, material_warnings));
   }
+  Model model{merged(std::move(pieces), path), std::move(materials), std::move(parts), std::move(material_warnings)};
   warnings.insert(warnings.end(), skipped_messages.begin(), skipped_messages.end());
   return model;
 }

@@ -1,12 +1,64 @@
-// Model files (through assimp) into one triangle list.
+// Model files (through assimp) into one triangle list, with the materials its parts are drawn with.
 #pragma once
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/mesh.hpp"
 
 namespace clraster::io {
+
+// The image a material's base colour texture comes from, as the model file names it. Nothing has
+// been opened or decoded: a file that is missing or unreadable is for the renderer to report.
+struct MaterialTexture {
+  // As the file names it: a path, or assimp's "*N" for the file's embedded image N.
+  std::string reference;
+  // An image in a file of its own: `reference` resolved against the model file's directory, with
+  // backslashes read as directory separators (Windows tools write them into OBJ material files).
+  // Empty when the image is embedded.
+  std::string file;
+  // An embedded image (a .glb buffer view or a data: URI): the bytes of its image file, and
+  // assimp's hint of their format ("png", "jpg"; can be empty).
+  std::vector<std::byte> encoded;
+  std::string format_hint;
+  // The texture coordinate set that maps the image. Only set 0 is loaded (Mesh::texcoords); a
+  // texture mapped by another comes with a line in Model::material_warnings.
+  unsigned uv_channel = 0;
+
+  bool embedded() const { return file.empty(); }
+};
+
+struct Material {
+  std::string name;  // as in the file; can be empty
+  // Linear RGBA: glTF's baseColorFactor, or else the diffuse colour (OBJ's Kd), or else white.
+  std::array<float, 4> base_color_factor{1, 1, 1, 1};
+  // glTF's baseColorTexture, or else the diffuse texture (OBJ's map_Kd).
+  std::optional<MaterialTexture> base_color_texture;
+};
+
+// Consecutive triangles drawn with one material: indices [first_index, first_index + index_count)
+// of the model, as DrawCall::first and DrawCall::count.
+struct ModelPart {
+  std::uint32_t first_index = 0;
+  std::uint32_t index_count = 0;
+  std::uint32_t material = 0;  // into Model::materials
+
+  bool operator==(const ModelPart&) const = default;
+};
+
+// A loaded model: its triangles as one Mesh, cut into parts by material.
+struct Model : Mesh {
+  std::vector<Material> materials;  // the materials the parts use, in the order of their first part
+  std::vector<ModelPart> parts;     // in index order, together covering every triangle once
+  // What of the materials is not drawn as the file means it, one line each, such as "material
+  // 'Body': its base colour texture is mapped by texture coordinate set 1, which is not loaded
+  // (only set 0 is)": for renderers that draw with the materials to pass on.
+  std::vector<std::string> material_warnings;
+};
 
 // Loads the triangles of a model file in any format assimp reads (OBJ, glTF 2.0 .gltf/.glb, PLY,
 // STL, OFF, ...) into one triangle list in the file's object space:
@@ -22,13 +74,22 @@ namespace clraster::io {
 //   that they are weighted by area, of the faces around it. Vertices at bit-identical positions
 //   count as one, so faces that meet are smoothed together even when the file gives each face its
 //   own vertices. A zero sum stays a zero normal;
-// - non-finite coordinates are kept as they are (the pipeline drops such triangles).
+// - texture coordinates are the file's first set (assimp's channel 0); a mesh instance without
+//   them gets (0, 0) when others have them, and a model without any has none;
+// - each mesh instance is drawn with its mesh's material; instances that follow each other with the
+//   same material make one part;
+// - non-finite coordinates, texture coordinates included, are kept as they are (the pipeline
+//   drops triangles with non-finite positions);
+// - texture files are neither opened nor checked. A base colour texture that names no image, or
+//   that the file embeds as raw texels rather than as an image file (Quake and Half-Life MDL), is
+//   left out, and one mapped by a texture coordinate set other than the first is kept, each with a
+//   line in Model::material_warnings.
 // Throws clraster::InvalidArgument with one line naming the file when the file is missing or
 // unreadable, assimp cannot parse it, it has no triangles, faces reference vertices, normals or
 // texture coordinates that do not exist (also when assimp would repair that by dropping the faces,
 // normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file has what
 // assimp reads wrongly: triangle strips or floating-point vertex indices.
 // Loads from several threads take turns: assimp's logger, which this watches, is process-wide.
-Mesh load_model(const std::string& path, std::vector<std::string>& warnings);
+Model load_model(const std::string& path, std::vector<std::string>& warnings);
 
 }  // namespace clraster::io

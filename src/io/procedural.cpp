@@ -41,11 +41,15 @@ void require_finite(const char* function, const char* name, Vec3f value) {
   }
 }
 
-// The Mesh invariant that merge and transform rely on.
-void require_normal_per_vertex(const std::string& what, const Mesh& mesh) {
+// The Mesh invariants that merge and transform rely on.
+void require_attributes_per_vertex(const std::string& what, const Mesh& mesh) {
   if (mesh.normals.size() != mesh.positions.size()) {
     throw InvalidArgument(what + " has " + std::to_string(mesh.normals.size()) + " normal values for " +
                           std::to_string(mesh.positions.size()) + " position values");
+  }
+  if (!mesh.texcoords.empty() && mesh.texcoords.size() != 2 * mesh.vertex_count()) {
+    throw InvalidArgument(what + " has " + std::to_string(mesh.texcoords.size()) + " texture coordinate values for " +
+                          std::to_string(mesh.vertex_count()) + " vertices");
   }
 }
 
@@ -392,27 +396,35 @@ Mesh make_random_triangles(int count, std::uint64_t seed, Vec3f box_min, Vec3f b
 Mesh merge(const std::vector<Mesh>& meshes) {
   std::uint64_t vertex_count = 0;
   std::size_t index_count = 0;
+  bool any_texcoords = false;
   for (std::size_t m = 0; m < meshes.size(); ++m) {
-    require_normal_per_vertex("merge: mesh " + std::to_string(m), meshes[m]);
+    require_attributes_per_vertex("merge: mesh " + std::to_string(m), meshes[m]);
     vertex_count += meshes[m].vertex_count();
     index_count += meshes[m].indices.size();
+    any_texcoords |= !meshes[m].texcoords.empty();
   }
   require_indexable("merge", vertex_count);
 
   Mesh merged;
   reserve_vertices(merged, vertex_count);
+  if (any_texcoords) merged.texcoords.reserve(2 * vertex_count);
   merged.indices.reserve(index_count);
   for (const Mesh& mesh : meshes) {
     const auto offset = static_cast<std::uint32_t>(merged.vertex_count());
     merged.positions.insert(merged.positions.end(), mesh.positions.begin(), mesh.positions.end());
     merged.normals.insert(merged.normals.end(), mesh.normals.begin(), mesh.normals.end());
+    if (mesh.texcoords.empty()) {
+      if (any_texcoords) merged.texcoords.resize(merged.texcoords.size() + 2 * mesh.vertex_count(), 0.0f);
+    } else {
+      merged.texcoords.insert(merged.texcoords.end(), mesh.texcoords.begin(), mesh.texcoords.end());
+    }
     for (std::uint32_t index : mesh.indices) merged.indices.push_back(index + offset);
   }
   return merged;
 }
 
 void transform(Mesh& mesh, const glm::mat4& matrix) {
-  require_normal_per_vertex("transform: the mesh", mesh);
+  require_attributes_per_vertex("transform: the mesh", mesh);
   const glm::mat3 linear(matrix);
   const float determinant = glm::determinant(linear);
   // The cofactor matrix is the inverse transpose times the determinant, and unlike the inverse it

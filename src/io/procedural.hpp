@@ -49,11 +49,13 @@ Mesh make_plane(int cells_x, int cells_y, float size_x, float size_y);
 // vertex has its own random unit normal. For stress tests; not a surface.
 Mesh make_random_triangles(int count, std::uint64_t seed, Vec3f box_min, Vec3f box_max, float max_size);
 
-// All meshes in one, in order: vertices appended, indices offset to match.
+// All meshes in one, in order: vertices appended, indices offset to match. When some of the
+// meshes have texture coordinates, the vertices of the others get (0, 0).
 Mesh merge(const std::vector<Mesh>& meshes);
 
 // Applies the affine `matrix` in place: positions by the matrix, normals by its inverse transpose,
-// renormalized (zero normals stay zero). A mirroring matrix (negative determinant) also reverses
+// renormalized (zero normals stay zero); texture coordinates stay as they are. A mirroring matrix
+// (negative determinant) also reverses
 // each triangle's winding, so that faces seen from their normal's side stay counter-clockwise.
 void transform(Mesh& mesh, const glm::mat4& matrix);
 

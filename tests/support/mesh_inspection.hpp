@@ -1,10 +1,12 @@
-// Reading a clraster::io::Mesh back in tests: vertices, corners and face normals, in double so that
-// checks on the float data are not blurred by the arithmetic that inspects it.
+// Reading a clraster::io::Mesh back in tests: vertices, texture coordinates, corners and face
+// normals, in double so that checks on the float data are not blurred by the arithmetic that
+// inspects it.
 #pragma once
 
 #include "io/mesh.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace clraster::test {
@@ -15,6 +17,10 @@ inline glm::dvec3 position(const io::Mesh& mesh, std::uint32_t v) {
 
 inline glm::dvec3 normal(const io::Mesh& mesh, std::uint32_t v) {
   return {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
+}
+
+inline glm::dvec2 texcoord(const io::Mesh& mesh, std::uint32_t v) {
+  return {mesh.texcoords[2 * v], mesh.texcoords[2 * v + 1]};
 }
 
 // Corner k (0..2) of a triangle.
