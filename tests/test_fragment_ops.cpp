@@ -1,8 +1,8 @@
 // Unit tests of the per-fragment operations (stages/fragment_ops.cl) and of the advanced blend
 // modes (program/library/blend_modes.cl). Small test kernels call the real functions, compiled with
 // the pipeline's sources; the expected values come from references written here, independently,
-// from the formulas of OpenGL 4.6 (17.3.3 stencil, 17.3.4 depth, 17.3.6 blending) and of
-// KHR_blend_equation_advanced.
+// from the formulas of OpenGL 4.6 (17.3.3 stencil, 17.3.4 depth, 17.3.6 blending), of llvmpipe's
+// 8-bit fixed-point blend (in integers) and of KHR_blend_equation_advanced.
 #include "api/impl.hpp"
 #include "cl/kernel_sources.hpp"
 #include "cl/launch.hpp"
@@ -46,18 +46,16 @@ __kernel void test_stencil_op(StencilUniforms s, __global const int* outcomes, _
   ops[i] = clr_stencil_op(s, outcomes[i] & 1, outcomes[i] & 2);
 }
 
-/* Case i blends colour combination i % combos under state i / combos. */
+/* Case i blends colour combination i % combos under state i / combos, for an attachment of `kind`
+ * (Attachment in the test). */
 __kernel void test_blend(__global const BlendUniforms* states, __global const float4* sources,
                          __global const float4* destinations, __global const float4* constants, uint combos,
-                         int normalized, __global float4* blended) {
+                         int kind, __global float4* blended) {
   const size_t i = get_global_id(0);
   const size_t c = i % combos;
-  blended[i] = clr_blend(states[i / combos], sources[c], destinations[c], constants[c], normalized != 0);
-}
-
-__kernel void test_round_unorm8(__global const float4* colors, __global float4* rounded) {
-  const size_t i = get_global_id(0);
-  rounded[i] = clr_round_unorm8(colors[i]);
+  const BlendUniforms b = states[i / combos];
+  blended[i] = kind == 2 ? clr_blend_unorm8(b, sources[c], destinations[c], constants[c])
+                         : clr_blend(b, sources[c], destinations[c], constants[c], kind == 1);
 }
 
 __kernel void test_write_mask(__global const uint* masks, float4 value, float4 destination, __global float4* out) {
@@ -338,66 +336,98 @@ BlendUniforms blend_state(int rgb_equation, int src_rgb, int dst_rgb, int alpha_
 
 using Rgbad = std::array<double, 4>;
 
-// Table 17.2 of GL 4.6, for channel c (3 is alpha).
-double reference_factor(int factor, int c, const Rgbad& s, const Rgbad& d, const Rgbad& k) {
+// Table 17.2 of GL 4.6, for channel c (3 is alpha), with colours in units where `one` is 1 (or 255
+// for 8-bit values).
+double reference_factor(int factor, int c, const Rgbad& s, const Rgbad& d, const Rgbad& k, double one) {
   const bool alpha = c == 3;
   switch (factor) {
     case CLR_FACTOR_ZERO: return 0;
-    case CLR_FACTOR_ONE: return 1;
+    case CLR_FACTOR_ONE: return one;
     case CLR_FACTOR_SRC_COLOR: return s[c];
-    case CLR_FACTOR_ONE_MINUS_SRC_COLOR: return 1 - s[c];
+    case CLR_FACTOR_ONE_MINUS_SRC_COLOR: return one - s[c];
     case CLR_FACTOR_DST_COLOR: return d[c];
-    case CLR_FACTOR_ONE_MINUS_DST_COLOR: return 1 - d[c];
+    case CLR_FACTOR_ONE_MINUS_DST_COLOR: return one - d[c];
     case CLR_FACTOR_SRC_ALPHA: return s[3];
-    case CLR_FACTOR_ONE_MINUS_SRC_ALPHA: return 1 - s[3];
+    case CLR_FACTOR_ONE_MINUS_SRC_ALPHA: return one - s[3];
     case CLR_FACTOR_DST_ALPHA: return d[3];
-    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return 1 - d[3];
+    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return one - d[3];
     case CLR_FACTOR_CONSTANT_COLOR: return k[c];
-    case CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR: return 1 - k[c];
+    case CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR: return one - k[c];
     case CLR_FACTOR_CONSTANT_ALPHA: return k[3];
-    case CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA: return 1 - k[3];
-    default: return alpha ? 1 : std::min(s[3], 1 - d[3]);  // SRC_ALPHA_SATURATE
+    case CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA: return one - k[3];
+    default: return alpha ? one : std::min(s[3], one - d[3]);  // SRC_ALPHA_SATURATE
   }
 }
 
-struct ExpectedChannel {
-  double value;
-  double tolerance;  // float rounding of the products and the sum
-};
-
-// Table 17.1 of GL 4.6 for channel c, after the clamping of 17.3.6 for normalized attachments.
-ExpectedChannel reference_blend(const BlendUniforms& b, int c, Rgba source, Rgba destination, Rgba constant,
-                                bool normalized) {
-  Rgbad s, d, k;
-  for (int i = 0; i < 4; ++i) {
-    const auto prepare = [&](float v) { return normalized ? std::clamp(double{v}, 0.0, 1.0) : double{v}; };
-    s[i] = prepare(source[i]);
-    d[i] = prepare(destination[i]);
-    k[i] = prepare(constant[i]);
-  }
+// Table 17.1 of GL 4.6 for channel c, in the same units, with products taken by `multiply`.
+template <typename Multiply>
+double reference_equation(const BlendUniforms& b, int c, const Rgbad& s, const Rgbad& d, const Rgbad& k, double one,
+                          Multiply multiply) {
   const bool alpha = c == 3;
   const int equation = alpha ? b.alpha_equation : b.rgb_equation;
-  const double source_term = s[c] * reference_factor(alpha ? b.src_alpha : b.src_rgb, c, s, d, k);
-  const double destination_term = d[c] * reference_factor(alpha ? b.dst_alpha : b.dst_rgb, c, s, d, k);
-  const double tolerance = 4e-7 * (1 + std::abs(source_term) + std::abs(destination_term)) * (1 + std::abs(s[c]) + std::abs(d[c]));
+  if (equation == CLR_BLEND_MIN) return std::min(s[c], d[c]);
+  if (equation == CLR_BLEND_MAX) return std::max(s[c], d[c]);
+  const double source_term = multiply(s[c], reference_factor(alpha ? b.src_alpha : b.src_rgb, c, s, d, k, one));
+  const double destination_term = multiply(d[c], reference_factor(alpha ? b.dst_alpha : b.dst_rgb, c, s, d, k, one));
   switch (equation) {
-    case CLR_BLEND_ADD: return {source_term + destination_term, tolerance};
-    case CLR_BLEND_SUBTRACT: return {source_term - destination_term, tolerance};
-    case CLR_BLEND_REVERSE_SUBTRACT: return {destination_term - source_term, tolerance};
-    case CLR_BLEND_MIN: return {std::min(s[c], d[c]), 0};
-    default: return {std::max(s[c], d[c]), 0};  // CLR_BLEND_MAX
+    case CLR_BLEND_SUBTRACT: return source_term - destination_term;
+    case CLR_BLEND_REVERSE_SUBTRACT: return destination_term - source_term;
+    default: return source_term + destination_term;  // CLR_BLEND_ADD
   }
+}
+
+// The product of two 8-bit values in llvmpipe (Mesa's lp_build_mul_norm for 8-bit unorm).
+double llvmpipe_mul_unorm8(double a, double b) {
+  const int ab = static_cast<int>(a) * static_cast<int>(b);
+  return (ab + (ab >> 8) + 128) >> 8;
+}
+
+// The attachment kinds of test_blend.
+enum class Attachment { Float = 0, Normalized = 1, Unorm8 = 2 };
+const char* name(Attachment kind) {
+  return kind == Attachment::Float ? "float" : kind == Attachment::Normalized ? "normalized" : "8-bit";
 }
 
 struct BlendCase {
   Rgba source, destination, constant;
 };
 
+float to_unorm8(float v) { return std::nearbyint(std::clamp(v, 0.0f, 1.0f) * 255.0f); }
+
+// What the device must return for channel c, within `tolerance` (float rounding of the products and
+// the sum). For 8-bit attachments, in bytes: llvmpipe's fixed-point blend of the inputs converted to
+// bytes, with its products, the result saturated.
+struct Expected {
+  double value;
+  double tolerance;
+};
+Expected reference_blend(const BlendUniforms& b, int c, const BlendCase& colors, Attachment kind) {
+  Rgbad s, d, k;
+  for (int i = 0; i < 4; ++i) {
+    const auto prepare = [&](float v) {
+      switch (kind) {
+        case Attachment::Float: return double{v};
+        case Attachment::Normalized: return std::clamp(double{v}, 0.0, 1.0);  // 17.3.6
+        default: return double{to_unorm8(v)};
+      }
+    };
+    s[i] = prepare(colors.source[i]);
+    d[i] = prepare(colors.destination[i]);
+    k[i] = prepare(colors.constant[i]);
+  }
+  if (kind == Attachment::Unorm8) {
+    return {std::clamp(reference_equation(b, c, s, d, k, 255, llvmpipe_mul_unorm8), 0.0, 255.0), 0};
+  }
+  double largest = 0;
+  for (int i = 0; i < 4; ++i) largest = std::max({largest, std::abs(s[i]), std::abs(d[i]), std::abs(k[i])});
+  const auto multiply = [](double a, double b) { return a * b; };
+  return {reference_equation(b, c, s, d, k, 1, multiply), 1e-6 * (1 + largest) * (1 + largest)};
+}
+
 class BlendTest : public FragmentOpsTest {
  protected:
-  // Every state on every colour case; checks each channel against reference_blend.
-  void expect_reference(const std::vector<BlendUniforms>& states, const std::vector<BlendCase>& cases,
-                        bool normalized) {
+  std::vector<Rgba> blend(const std::vector<BlendUniforms>& states, const std::vector<BlendCase>& cases,
+                          Attachment kind) {
     std::vector<Rgba> sources, destinations, constants;
     for (const BlendCase& c : cases) {
       sources.push_back(c.source);
@@ -407,31 +437,35 @@ class BlendTest : public FragmentOpsTest {
     const std::size_t count = states.size() * cases.size();
     cl::Buffer blended = output<Rgba>(count);
     run("test_blend", count, buffer(states), buffer(sources), buffer(destinations), buffer(constants),
-        cl_uint(cases.size()), cl_int{normalized}, blended);
-    const std::vector<Rgba> result = read<Rgba>(blended, count);
+        cl_uint(cases.size()), cl_int(kind), blended);
+    return read<Rgba>(blended, count);
+  }
+
+  Rgba blend(const BlendUniforms& state, const BlendCase& c, Attachment kind) {
+    return blend(std::vector<BlendUniforms>{state}, std::vector<BlendCase>{c}, kind)[0];
+  }
+
+  // Every state on every colour case; checks each channel against reference_blend.
+  void expect_reference(const std::vector<BlendUniforms>& states, const std::vector<BlendCase>& cases,
+                        Attachment kind) {
+    const std::vector<Rgba> result = blend(states, cases, kind);
     int failures = 0;
-    for (std::size_t i = 0; i < count && failures < 10; ++i) {
+    for (std::size_t i = 0; i < result.size() && failures < 10; ++i) {
       const BlendUniforms& b = states[i / cases.size()];
       const BlendCase& c = cases[i % cases.size()];
       for (int channel = 0; channel < 4; ++channel) {
-        const ExpectedChannel expected = reference_blend(b, channel, c.source, c.destination, c.constant, normalized);
-        if (!(std::abs(result[i][channel] - expected.value) <= expected.tolerance)) {
+        const Expected expected = reference_blend(b, channel, c, kind);
+        const double actual = kind == Attachment::Unorm8 ? to_unorm8(result[i][channel]) : result[i][channel];
+        if (!(std::abs(actual - expected.value) <= expected.tolerance)) {
           ++failures;
-          ADD_FAILURE() << (normalized ? "normalized" : "float") << " rgb " << b.rgb_equation << "(" << b.src_rgb
-                        << ", " << b.dst_rgb << "), alpha " << b.alpha_equation << "(" << b.src_alpha << ", "
-                        << b.dst_alpha << "), source " << describe(c.source) << ", destination "
-                        << describe(c.destination) << ", constant " << describe(c.constant) << ": channel "
-                        << channel << " is " << result[i][channel] << " instead of " << expected.value;
+          ADD_FAILURE() << name(kind) << " rgb " << b.rgb_equation << "(" << b.src_rgb << ", " << b.dst_rgb
+                        << "), alpha " << b.alpha_equation << "(" << b.src_alpha << ", " << b.dst_alpha
+                        << "), source " << describe(c.source) << ", destination " << describe(c.destination)
+                        << ", constant " << describe(c.constant) << ": channel " << channel << " is " << actual
+                        << " instead of " << expected.value;
         }
       }
     }
-  }
-
-  Rgba blend(const BlendUniforms& state, const BlendCase& c, bool normalized) {
-    cl::Buffer blended = output<Rgba>(1);
-    run("test_blend", 1, buffer(std::vector{state}), buffer(std::vector{c.source}), buffer(std::vector{c.destination}),
-        buffer(std::vector{c.constant}), cl_uint{1}, cl_int{normalized}, blended);
-    return read<Rgba>(blended, 1)[0];
   }
 };
 
@@ -468,7 +502,7 @@ TEST_F(BlendTest, NormalizedAttachmentsClampInputsThenBlendAsGL) {
        {-1.0f, 2.0f, 0.55f, -0.5f}},
       {{0.3f, 0.8f, 0.15f, 0.45f}, {1.0f, 0.0f, 0.5f, 1.0f}, {0.65f, 0.35f, 0.95f, 0.0f}, {1.75f, -0.5f, 0.25f, 3.0f}},
       {{0.3f, 0.6f, 0.9f, 0.45f}, {-0.5f, 1.5f, 0.25f, 1.2f}});
-  expect_reference(every_equation_and_factor_pair(), cases, /*normalized=*/true);
+  expect_reference(every_equation_and_factor_pair(), cases, Attachment::Normalized);
 }
 
 TEST_F(BlendTest, FloatAttachmentsBlendOutOfRangeValuesUnclamped) {
@@ -476,13 +510,43 @@ TEST_F(BlendTest, FloatAttachmentsBlendOutOfRangeValuesUnclamped) {
       {{0.2f, 0.5f, 0.9f, 0.6f}, {3.5f, -2.0f, 0.25f, 1.75f}, {-0.5f, 10.0f, 1.0f, -0.25f}, {0.0f, 1.0f, 0.3f, 0.0f}},
       {{0.3f, 0.8f, 0.15f, 0.45f}, {-1.5f, 4.0f, 0.5f, 2.5f}, {1.25f, 0.0f, -3.0f, -0.75f}},
       {{0.3f, 0.6f, 0.9f, 0.45f}, {-0.5f, 1.5f, 2.25f, 1.2f}});
-  expect_reference(every_equation_and_factor_pair(), cases, /*normalized=*/false);
+  expect_reference(every_equation_and_factor_pair(), cases, Attachment::Float);
+}
+
+TEST_F(BlendTest, EightBitAttachmentsBlendInFixedPointAsLlvmpipe) {
+  // Fragment and constant colours off the 8-bit grid, on its rounding ties and out of range.
+  const std::vector<BlendCase> cases = colour_grid(
+      {{0.2f, 0.5f, 0.9f, 0.6f}, {0.0f, 1.0f, 0.7513f, 0.0f}, {0.1f, 0.4f, 0.7f, 1.0f}, {1.5f, -0.25f, 0.3f, 1.25f},
+       {0.5f / 255.0f, 1.5f / 255.0f, 0.33f, 0.91f}},
+      {{77.0f / 255.0f, 204.0f / 255.0f, 38.0f / 255.0f, 115.0f / 255.0f}, {1.0f, 0.0f, 128.0f / 255.0f, 1.0f},
+       {166.0f / 255.0f, 89.0f / 255.0f, 242.0f / 255.0f, 0.0f}},
+      {{0.3f, 0.6f, 0.9f, 0.45f}, {-0.5f, 1.5f, 0.25f, 0.7f}});
+  expect_reference(every_equation_and_factor_pair(), cases, Attachment::Unorm8);
+}
+
+TEST_F(BlendTest, EightBitAttachmentsRoundEachProductNotTheSum) {
+  // SRC_ALPHA, ONE_MINUS_SRC_ALPHA with 51 over 153, alpha 51: 10.2 + 122.4 blends to 10 + 122 = 132
+  // (llvmpipe), not round(132.6) = 133.
+  const BlendUniforms over = blend_state(CLR_BLEND_ADD, CLR_FACTOR_SRC_ALPHA, CLR_FACTOR_ONE_MINUS_SRC_ALPHA,
+                                         CLR_BLEND_ADD, CLR_FACTOR_ONE, CLR_FACTOR_ZERO);
+  const float grey = 51.0f / 255.0f;
+  const Rgba result = blend(over, {{grey, grey, grey, grey}, {0.6f, 0.6f, 0.6f, 1.0f}, {}}, Attachment::Unorm8);
+  EXPECT_EQ(to_unorm8(result[0]), 132.0f);
+}
+
+TEST_F(BlendTest, EightBitProductsJustAboveAHalfRoundDownAsInLlvmpipe) {
+  // 152 * 229 / 255 = 136.502: llvmpipe's (ab + (ab >> 8) + 128) >> 8 gives 136.
+  const BlendUniforms modulate = blend_state(CLR_BLEND_ADD, CLR_FACTOR_DST_COLOR, CLR_FACTOR_ZERO, CLR_BLEND_ADD,
+                                             CLR_FACTOR_ONE, CLR_FACTOR_ZERO);
+  const Rgba result =
+      blend(modulate, {{152.0f / 255.0f, 0, 0, 1}, {229.0f / 255.0f, 0, 0, 1}, {}}, Attachment::Unorm8);
+  EXPECT_EQ(to_unorm8(result[0]), 136.0f);
 }
 
 TEST_F(BlendTest, SrcAlphaSaturateIsTheSmallerOfSourceAlphaAndOneMinusDestinationAlphaAndOneForAlpha) {
   const BlendUniforms saturate = blend_state(CLR_BLEND_ADD, CLR_FACTOR_SRC_ALPHA_SATURATE, CLR_FACTOR_ZERO,
                                              CLR_BLEND_ADD, CLR_FACTOR_SRC_ALPHA_SATURATE, CLR_FACTOR_ZERO);
-  const Rgba result = blend(saturate, {{0.8f, 0.4f, 0.2f, 0.75f}, {0.0f, 0.0f, 0.0f, 0.5f}, {}}, true);
+  const Rgba result = blend(saturate, {{0.8f, 0.4f, 0.2f, 0.75f}, {0.0f, 0.0f, 0.0f, 0.5f}, {}}, Attachment::Normalized);
   EXPECT_FLOAT_EQ(result[0], 0.8f * 0.5f);
   EXPECT_FLOAT_EQ(result[1], 0.4f * 0.5f);
   EXPECT_FLOAT_EQ(result[2], 0.2f * 0.5f);
@@ -493,33 +557,22 @@ TEST_F(BlendTest, ConstantColourIsClampedOnlyForNormalizedAttachments) {
   const BlendUniforms constant = blend_state(CLR_BLEND_ADD, CLR_FACTOR_CONSTANT_COLOR, CLR_FACTOR_ZERO,
                                              CLR_BLEND_ADD, CLR_FACTOR_CONSTANT_ALPHA, CLR_FACTOR_ZERO);
   const BlendCase c{{0.5f, 0.5f, 0.5f, 0.5f}, {}, {2.0f, -1.0f, 0.5f, 3.0f}};
-  EXPECT_EQ(blend(constant, c, true), (Rgba{0.5f, 0.0f, 0.25f, 0.5f}));
-  EXPECT_EQ(blend(constant, c, false), (Rgba{1.0f, -0.5f, 0.25f, 1.5f}));
+  EXPECT_EQ(blend(constant, c, Attachment::Normalized), (Rgba{0.5f, 0.0f, 0.25f, 0.5f}));
+  EXPECT_EQ(blend(constant, c, Attachment::Float), (Rgba{1.0f, -0.5f, 0.25f, 1.5f}));
 }
 
 TEST_F(BlendTest, MinAndMaxIgnoreTheFactors) {
   const BlendUniforms min_max = blend_state(CLR_BLEND_MIN, CLR_FACTOR_ZERO, CLR_FACTOR_ZERO, CLR_BLEND_MAX,
                                             CLR_FACTOR_ZERO, CLR_FACTOR_ZERO);
-  EXPECT_EQ(blend(min_max, {{0.25f, 0.75f, 0.5f, 0.25f}, {0.5f, 0.5f, 0.5f, 0.5f}, {}}, true),
+  EXPECT_EQ(blend(min_max, {{0.25f, 0.75f, 0.5f, 0.25f}, {0.5f, 0.5f, 0.5f, 0.5f}, {}}, Attachment::Normalized),
             (Rgba{0.25f, 0.5f, 0.5f, 0.5f}));
 }
 
 TEST_F(BlendTest, SubtractionIsNotClampedBeforeTheConversionToTheAttachment) {
   const BlendUniforms subtract = blend_state(CLR_BLEND_SUBTRACT, CLR_FACTOR_ONE, CLR_FACTOR_ONE,
                                              CLR_BLEND_REVERSE_SUBTRACT, CLR_FACTOR_ONE, CLR_FACTOR_ONE);
-  EXPECT_EQ(blend(subtract, {{0.25f, 1.0f, 0.5f, 0.75f}, {0.5f, 0.25f, 0.5f, 0.25f}, {}}, true),
+  EXPECT_EQ(blend(subtract, {{0.25f, 1.0f, 0.5f, 0.75f}, {0.5f, 0.25f, 0.5f, 0.25f}, {}}, Attachment::Normalized),
             (Rgba{-0.25f, 0.75f, 0.0f, -0.5f}));
-}
-
-TEST_F(FragmentOpsTest, RoundingToUnorm8GoesToTheNearestOf256ValuesAndClamps) {
-  const std::vector<Rgba> colors = {{0.0f, 1.0f, 0.5f, 0.2f}, {-0.5f, 1.5f, kNaN, 0.3f / 255.0f}};
-  cl::Buffer rounded = output<Rgba>(colors.size());
-  run("test_round_unorm8", colors.size(), buffer(colors), rounded);
-  const std::vector<Rgba> result = read<Rgba>(rounded, colors.size());
-  const std::vector<Rgba> expected = {{0.0f, 1.0f, 128.0f / 255.0f, 51.0f / 255.0f}, {0.0f, 1.0f, 0.0f, 0.0f}};
-  for (std::size_t i = 0; i < colors.size(); ++i) {
-    for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(result[i][c], expected[i][c]) << describe(colors[i]) << " channel " << c;
-  }
 }
 
 TEST_F(FragmentOpsTest, WriteMaskKeepsTheDestinationInMaskedChannels) {

