@@ -290,7 +290,7 @@ TEST(Rasterization, PixelCentresOnEdgesFollowTheLeftBottomRule) {
 
 TEST_F(KernelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
   ContextState& s = state();
-  parallel::Scan scan(program_);
+  parallel::Scan scan(state().core_program());
   cl::Buffer counters = buffer(std::vector<cl_uint>(CLR_COUNTER_COUNT));
   for (std::size_t n : {std::size_t{1}, std::size_t{CLR_SCAN_BLOCK - 1}, std::size_t{CLR_SCAN_BLOCK + 1},
                         std::size_t{CLR_SCAN_BLOCK * CLR_SCAN_GROUP_SIZE + 77}}) {
@@ -310,7 +310,7 @@ TEST_F(KernelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
 TEST_F(KernelTest, ExclusiveScanSaturatesInsteadOfWrapping) {
   // Bin pair counts can add up past 2^32: offsets must stay monotone so the host can split there.
   ContextState& s = state();
-  parallel::Scan scan(program_);
+  parallel::Scan scan(state().core_program());
   cl::Buffer counters = buffer(std::vector<cl_uint>(CLR_COUNTER_COUNT));
   const std::size_t n = 2 * CLR_SCAN_BLOCK + 5;
   std::vector<cl_uint> data(n, 1u << 22);  // 2^22 * 4101 > 2^32 after 1024 elements
@@ -327,8 +327,8 @@ TEST_F(KernelTest, ExclusiveScanSaturatesInsteadOfWrapping) {
 
 TEST_F(KernelTest, RadixSortIsStable) {
   ContextState& s = state();
-  parallel::Scan scan(program_);
-  parallel::RadixSort sort(program_, scan);
+  parallel::Scan scan(state().core_program());
+  parallel::RadixSort sort(state().core_program(), scan);
   const std::size_t n = 3 * CLR_SCAN_BLOCK + 123;
   std::vector<cl_uint> keys(n), values(n);
   std::mt19937 random(7);

@@ -77,6 +77,10 @@ void resolve_attributes(const DrawCall& call, const Program::Impl& program, cons
     AttributeDesc desc{};
     if (found == supplied.end()) {
       // A vertex buffer without normals reads zero normals, as before programs existed.
+      if (call.vertices == nullptr && call.attributes.empty()) {
+        throw InvalidArgument("the draw has no vertex buffer or attributes, but program " + program.file_name +
+                              " reads the attribute '" + attribute.name + "'");
+      }
       if (!(attribute.name == "normal" && call.vertices != nullptr)) {
         throw InvalidArgument("attribute '" + attribute.name + "' of program " + program.file_name + " (line " +
                               std::to_string(attribute.line) + ") is not supplied by the draw");

@@ -4,31 +4,54 @@
 
 #include <cstring>
 #include <fstream>
+#include <optional>
+#include <regex>
 #include <sstream>
 
 namespace clraster {
 namespace {
 
-bool is_diagnostic(const std::string& line) {
-  return line.find(": error:") != std::string::npos || line.find(": warning:") != std::string::npos ||
-         line.find(": note:") != std::string::npos;
+// A compiler diagnostic as "FILE:LINE:COLUMN: severity: message": clang's own form, or PoCL's
+// rewrite of it, "severity: FILE:LINE:COLUMN: message".
+struct Diagnostic {
+  std::string text;
+  bool error = false;
+  bool in_user_file = false;
+};
+
+std::optional<Diagnostic> parse_diagnostic(const std::string& line, const std::string& file_name) {
+  static const std::regex clang_form(R"(^(.+?):(\d+):(\d+): (error|warning|note): (.*)$)");
+  static const std::regex pocl_form(R"(^(error|warning|note): (.+?):(\d+):(\d+): (.*)$)");
+  std::smatch m;
+  std::string file, line_number, column, severity, message;
+  if (std::regex_match(line, m, pocl_form)) {
+    severity = m[1], file = m[2], line_number = m[3], column = m[4], message = m[5];
+  } else if (std::regex_match(line, m, clang_form)) {
+    file = m[1], line_number = m[2], column = m[3], severity = m[4], message = m[5];
+  } else {
+    return std::nullopt;
+  }
+  return Diagnostic{file + ":" + line_number + ":" + column + ": " + severity + ": " + message, severity == "error",
+                    file == file_name};
 }
 
-// The compiler's errors, each with the source line and caret clang prints under it. Errors in the
-// user's file come first, in the usual FILE:LINE:COLUMN: form, since the generated program puts
-// the user's source under #line 1 "file_name".
+// The compiler's errors in the usual FILE:LINE:COLUMN: form, each with the source line and caret
+// clang prints under it. Errors in the user's file come first; the generated program puts the
+// user's source under #line 1 "file_name", so its lines are the user's.
 std::string compile_errors(const std::string& log, const std::string& file_name) {
   std::istringstream lines(log);
   std::string line, user, other;
   std::string* block = nullptr;
   while (std::getline(lines, line)) {
-    if (is_diagnostic(line)) {
-      block = line.find(": error:") == std::string::npos ? nullptr : line.starts_with(file_name + ":") ? &user : &other;
+    if (const std::optional<Diagnostic> d = parse_diagnostic(line, file_name)) {
+      block = !d->error ? nullptr : d->in_user_file ? &user : &other;
+      if (block != nullptr) *block += d->text + "\n";
+    } else if (block != nullptr && line.find("failed to build") == std::string::npos) {
+      *block += line + "\n";
     }
-    if (block != nullptr) *block += line + "\n";
   }
-  std::string errors = user.empty() ? other : user;
-  if (errors.empty()) errors = log;  // not clang's format: show the whole log
+  std::string errors = user + other;
+  if (errors.empty()) errors = log;  // not a compiler's format: show the whole log
   while (!errors.empty() && errors.back() == '\n') errors.pop_back();
   return errors;
 }

@@ -95,7 +95,11 @@ void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local
         program_rgb || program_alpha ? clr_program_blend(f, target, source, destination) : (float4)(0.0f);
     if (program_rgb) b.rgb_equation = CLR_BLEND_ADD;
     if (program_alpha) b.alpha_equation = CLR_BLEND_ADD;
-    const float4 fixed = clr_blend(b, source, destination, vload4(0, u->blend_color), is_normalized_format(format));
+    const float4 constant_color = vload4(0, u->blend_color);
+    /* 8-bit linear attachments blend in 8-bit fixed point, as llvmpipe does (fragment_ops.cl). */
+    const float4 fixed = format <= CLR_FORMAT_RGBA8 ? clr_blend_unorm8(b, source, destination, constant_color)
+                                                    : clr_blend(b, source, destination, constant_color,
+                                                                is_normalized_format(format));
     result = (float4)(program_rgb ? programmed.xyz : fixed.xyz, program_alpha ? programmed.w : fixed.w);
   }
   *pixel = as_uint4(clr_quantize_float(format, clr_apply_write_mask(b.write_mask, result, destination)));
