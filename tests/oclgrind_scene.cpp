@@ -1,10 +1,14 @@
 // A few small draws that between them run every kernel of the pipeline once: indexed lists (vertices
 // shaded once per draw), non-indexed strips and fans (vertices shaded per chunk), clipping at the near
-// plane, culling, scissor, additive blending. Run under Oclgrind by oclgrind_check.sh, which fails on
+// plane, culling, scissor, additive blending; and a user program shaded in quads (derivatives and
+// texture sampling exchange values between work-items) into two attachments with stencil, blending
+// and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device. Run under Oclgrind by oclgrind_check.sh, which fails on
 // any data race, out-of-bounds access, uninitialized read or API error Oclgrind reports.
 #include "clraster/clraster.hpp"
 
+#include <cstdint>
 #include <cstdio>
+#include <span>
 #include <vector>
 
 int main() {
@@ -41,7 +45,59 @@ int main() {
     target.draw(fan);
 
     const clraster::Image image = target.read_color();
-    std::printf("rendered %dx%d\n", image.width, image.height);
+
+    const char* const source = R"(
+clr_attribute(float2, corner)
+clr_attribute(float2, offset)
+clr_varying(float2, uv)
+clr_varying_flat(uint, instance)
+clr_uniform(float, scale)
+clr_texture(pattern)
+clr_output(float4, color)
+clr_output(uint4, id)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.corner * v->uniforms->scale + v->in.offset, 0.5f, 1.0f);
+  v->out.uv = v->in.corner * 3.0f;
+  v->out.instance = v->instance_id;
+}
+void fragment(clr_fragment* f) {
+  const float4 sampled = clr_sample(f, f->textures.pattern, f->in.uv);
+  f->out.color = sampled * 0.5f + clr_framebuffer_fetch(f, 0) * 0.5f + (float4)(clr_fwidth(f, f->in.uv), 0.0f, 0.0f);
+  f->out.id = (uint4)(f->in.instance, f->primitive_id, 0, 0);
+}
+)";
+    const clraster::Program program(context, source, "oclgrind_scene.cl");
+    std::vector<std::uint8_t> texels(16 * 16 * 4);
+    for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>(i * 37);
+    const clraster::Texture pattern(context, 16, 16, clraster::Format::RGBA8, std::as_bytes(std::span(texels)));
+    clraster::Bindings bindings(program);
+    bindings.set("scale", 0.6f).set_texture("pattern", pattern);
+    const std::vector<float> corners = {-1, -1, 1, -1, 0, 1};
+    const std::vector<float> offsets = {-0.2f, 0.0f, 0.3f, 0.1f};
+    const clraster::Buffer corner_buffer(context, corners), offset_buffer(context, offsets);
+    clraster::Texture color(context, 29, 19, clraster::Format::RGBA16F), ids(context, 29, 19, clraster::Format::RGBA32UI),
+        depth(context, 29, 19, clraster::Format::Depth32FStencil8);
+    clraster::Framebuffer layers(context, {&color, &ids}, &depth);
+    layers.clear({0.2f, 0.3f, 0.4f, 1});
+    clraster::DrawCall overlapping;
+    overlapping.program = &program;
+    overlapping.bindings = &bindings;
+    overlapping.attributes = {{"corner", &corner_buffer, clraster::AttributeType::Float2},
+                              {"offset", &offset_buffer, clraster::AttributeType::Float2, 0, 0, true}};
+    overlapping.count = 3;
+    overlapping.instance_count = 2;
+    overlapping.state.stencil_test = true;
+    overlapping.state.stencil_front = {clraster::CompareFunc::Always, 1, 0xff, 0xff, clraster::StencilOp::Keep,
+                                       clraster::StencilOp::Keep, clraster::StencilOp::IncrementWrap};
+    overlapping.state.stencil_back = overlapping.state.stencil_front;
+    overlapping.state.depth_func = clraster::CompareFunc::LessEqual;
+    overlapping.state.blend[0] = {true, clraster::BlendEquation::Add, clraster::BlendEquation::Max,
+                                  clraster::BlendFactor::SrcAlpha, clraster::BlendFactor::OneMinusSrcAlpha,
+                                  clraster::BlendFactor::One, clraster::BlendFactor::One, {true, true, true, true}};
+    layers.draw(overlapping);
+    color.generate_mipmaps();
+    std::printf("rendered %dx%d and %dx%d (%zu stencil bytes)\n", image.width, image.height, layers.width(),
+                layers.height(), layers.read_stencil().size());
     return 0;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "oclgrind_scene: %s\n", error.what());

@@ -3,6 +3,7 @@
 // so that a rejected draw leaves the framebuffer as it was. And the one bad input that is not an
 // error: non-finite vertex coordinates, whose triangles are dropped, counted, and nothing else.
 #include "io/procedural.hpp"
+#include "support/error_expectations.hpp"
 #include "support/test_support.hpp"
 
 #include <array>
@@ -17,30 +18,6 @@
 
 namespace clraster::test {
 namespace {
-
-// Runs `action` and checks that it throws an `Exception` whose message is one line mentioning
-// every one of `subjects`.
-template <typename Exception = InvalidArgument, typename Action>
-::testing::AssertionResult throws(Action&& action, const std::vector<std::string_view>& subjects) {
-  try {
-    action();
-  } catch (const Exception& error) {
-    const std::string_view message = error.what();
-    if (message.find('\n') != std::string_view::npos) {
-      return ::testing::AssertionFailure() << "message is not one line: '" << message << "'";
-    }
-    for (std::string_view subject : subjects) {
-      if (message.find(subject) == std::string_view::npos) {
-        return ::testing::AssertionFailure() << "message '" << message << "' does not mention '" << subject << "'";
-      }
-    }
-    return ::testing::AssertionSuccess();
-  } catch (const std::exception& error) {
-    return ::testing::AssertionFailure() << "threw " << typeid(error).name() << " instead of "
-                                         << typeid(Exception).name() << ": " << error.what();
-  }
-  return ::testing::AssertionFailure() << "did not throw";
-}
 
 // ---- Contexts and framebuffers -----------------------------------------------------------------
 
