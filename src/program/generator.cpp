@@ -51,7 +51,9 @@ void emit_interface(std::ostringstream& out, const ParsedProgram& p) {
   emit_struct(out, "clr_varyings", members);
   members.clear();
   for (const ProgramVariable& u : in.uniforms) {
-    members.push_back(u.type + " " + u.name + (u.array_size ? "[" + std::to_string(u.array_size) + "]" : ""));
+    std::string member = u.type + " " + u.name;
+    if (u.array_size) member += '[' + std::to_string(u.array_size) + ']';
+    members.push_back(member);
   }
   emit_struct(out, "clr_uniforms", members);
   members.clear();
