@@ -4,9 +4,10 @@
  * state. Reading buffers directly is about three times faster than read_imagef on PoCL, works on
  * every device, and lets every format and every wrap mode follow OpenGL to the texel.
  *
- *   level of detail   lambda = clamp(lambda_base + clamp(lod_bias, +-CLR_MAX_TEXTURE_LOD_BIAS), min_lod, max_lod),
- *                     lambda_base = log2(rho) from the gradients (log2 as llvmpipe approximates it,
- *                     see clr_sample_grad), or the explicit lod
+ *   level of detail   lambda = clamp(lambda_base + clamp(lod_bias, +-CLR_MAX_TEXTURE_LOD_BIAS),
+ *                                  min_lod, max_lod)
+ *                     with lambda_base = log2(rho) from the gradients (log2 as llvmpipe approximates
+ *                     it, see clr_sample_grad), or the explicit lod
  *   filter            lambda <= 0: magnification, mag_filter on level 0; else min_filter, on
  *                     level 0 (mip none), on the nearest level (ceil(lambda + 1/2) - 1, clamped), or
  *                     blended between levels floor(lambda) and floor(lambda) + 1 by frac(lambda)
@@ -39,6 +40,7 @@ uint clr_texel_index(clr_texture t, int level, int2 size, int i, int j) {
  * OpenGL leaves a fetch outside the level, or of a level the texture does not have, undefined: here
  * it reads zeros, in every channel. */
 
+/* Whether `texel` lies in `level`; if so, its index. */
 bool clr_fetch_index(clr_texture t, int2 texel, int level, uint* index) {
   const int2 size = clr_texture_size(t, level);
   if (texel.x < 0 || texel.y < 0 || texel.x >= size.x || texel.y >= size.y) return false;
@@ -48,7 +50,8 @@ bool clr_fetch_index(clr_texture t, int2 texel, int level, uint* index) {
 
 float4 clr_texel_fetch(clr_texture t, int2 texel, int level) {
   uint index;
-  return clr_fetch_index(t, texel, level, &index) ? clr_load_texel_float(t.desc->format, t.data, index) : (float4)(0.0f);
+  return clr_fetch_index(t, texel, level, &index) ? clr_load_texel_float(t.desc->format, t.data, index)
+                                                  : (float4)(0.0f);
 }
 
 int4 clr_texel_fetch_int(clr_texture t, int2 texel, int level) {
@@ -69,7 +72,9 @@ int clr_floor_mod(int a, int b) {
   return r < 0 ? r + b : r;
 }
 
-/* The texel that integer coordinate i (any integer) selects in a row or column of `size` texels. */
+/* The texel that integer coordinate i (any integer) selects in a row or column of `size` texels.
+ * (llvmpipe mirrors the float coordinate instead, which selects the neighbouring texel when u is
+ * exactly a whole number of texels.) */
 int clr_wrap(int mode, int i, int size) {
   switch (mode) {
     case CLR_WRAP_CLAMP_TO_EDGE: return clamp(i, 0, size - 1);
