@@ -1,7 +1,8 @@
 // A few small draws that between them run every kernel of the pipeline once: indexed lists (vertices
 // shaded once per draw), non-indexed strips and fans (vertices shaded per chunk), clipping at the near
-// plane, culling, scissor, additive blending. Run under Oclgrind by oclgrind_check.sh, which fails on
-// any data race, out-of-bounds access, uninitialized read or API error Oclgrind reports.
+// plane, culling, scissor, additive blending; and mipmap generation. Run under Oclgrind by
+// oclgrind_check.sh, which fails on any data race, out-of-bounds access, uninitialized read or API
+// error Oclgrind reports.
 #include "clraster/clraster.hpp"
 
 #include <cstdio>
@@ -39,6 +40,11 @@ int main() {
     fan.state.cull = clraster::CullMode::Back;
     fan.state.shading = clraster::Shading::Lambert;
     target.draw(fan);
+
+    // Mipmaps of a texture with odd sides (5x3 -> 2x1 -> 1x1), in sRGB.
+    const std::vector<std::byte> texels(5 * 3 * 4, std::byte{200});
+    const clraster::Texture texture(context, 5, 3, clraster::Format::SRGB8_A8, texels);
+    std::printf("texture level 2: %d bytes\n", static_cast<int>(texture.read(2).size()));
 
     const clraster::Image image = target.read_color();
     std::printf("rendered %dx%d\n", image.width, image.height);
