@@ -397,6 +397,30 @@ TEST(TextureFormats, FormatInfoDescribesEveryFormat) {
   EXPECT_EQ(format_info(Format::RG32F).channels, 2);
 }
 
+TEST(TextureLayout, LevelsFollowEachOtherAndTheStencilPlaneFollowsLevelZero) {
+  Context& context = shared_context();
+  const Texture texture(context, 5, 3, Format::RGBA16F, kFullMipChain);  // 5x3, 2x1, 1x1
+  Sampler sampler;
+  sampler.wrap_s = Wrap::MirroredRepeat;
+  sampler.min_filter = Filter::Nearest;
+  sampler.lod_bias = 0.5f;
+  const TextureDesc desc = texture.impl().describe(sampler);
+  EXPECT_EQ(desc.format, CLR_FORMAT_RGBA16F);
+  EXPECT_EQ(desc.levels, 3);
+  EXPECT_EQ((std::array<clr_uint, 3>{desc.level_offset[0], desc.level_offset[1], desc.level_offset[2]}),
+            (std::array<clr_uint, 3>{0, 15, 17}));
+  EXPECT_EQ(desc.wrap_s, CLR_WRAP_MIRRORED_REPEAT);
+  EXPECT_EQ(desc.wrap_t, CLR_WRAP_REPEAT);
+  EXPECT_EQ(desc.min_filter, CLR_FILTER_NEAREST);
+  EXPECT_EQ(desc.mip_filter, CLR_MIP_LINEAR);
+  EXPECT_EQ(desc.lod_bias, 0.5f);
+  EXPECT_EQ(texture.impl().level_offset_bytes(2), 17u * 8);
+  EXPECT_EQ(texture.impl().level_bytes(1), 2u * 8);
+  EXPECT_EQ(texture.read(0), std::vector<std::byte>(15 * 8));  // new textures are zeros
+  const Texture depth_stencil(context, 3, 2, Format::Depth32FStencil8);
+  EXPECT_EQ(depth_stencil.impl().describe().stencil_offset, 3u * 2 * 4);
+}
+
 // ---- Texel fetches ----------------------------------------------------------------------------------------
 
 TEST_F(TextureTest, TexelFetchesReadExactTexelsAndZerosOutsideTheTexture) {

@@ -38,8 +38,8 @@ bool clr_channel_is_integer(int type) { return type == CLR_CHANNEL_SINT32 || typ
  * Channel c of the texel in bits.s[c], as stored (zero-extended); channels the format lacks are 0.
  * Whole texels are read and written with vector loads and stores. */
 
-#define CLR_READ_CHANNELS(T)                                                                  \
-  if (layout.channels == 4) bits = convert_uint4(vload4(index, (__global const T*)data));     \
+#define CLR_READ_CHANNELS(T)                                                                    \
+  if (layout.channels == 4) bits = convert_uint4(vload4(index, (__global const T*)data));         \
   else if (layout.channels == 2) bits.xy = convert_uint2(vload2(index, (__global const T*)data)); \
   else if (layout.channels == 1) bits.x = ((__global const T*)data)[index];
 
@@ -54,9 +54,9 @@ uint4 clr_read_texel(clr_texel_layout layout, __global const uchar* data, uint i
 }
 #undef CLR_READ_CHANNELS
 
-#define CLR_WRITE_CHANNELS(T, convert2, convert4)                                           \
-  if (layout.channels == 4) vstore4(convert4(bits), index, (__global T*)data);              \
-  else if (layout.channels == 2) vstore2(convert2(bits.xy), index, (__global T*)data);      \
+#define CLR_WRITE_CHANNELS(T, convert2, convert4)                                      \
+  if (layout.channels == 4) vstore4(convert4(bits), index, (__global T*)data);         \
+  else if (layout.channels == 2) vstore2(convert2(bits.xy), index, (__global T*)data); \
   else if (layout.channels == 1) ((__global T*)data)[index] = (T)bits.x;
 
 void clr_write_texel(clr_texel_layout layout, __global uchar* data, uint index, uint4 bits) {

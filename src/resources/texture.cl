@@ -171,10 +171,10 @@ float clr_log2_piecewise_linear(float x) {
 /* textureGrad: the level of detail from the derivatives of (s, t) along window x and y. OpenGL's
  * rho = max(|d(u, v)/dx|, |d(u, v)/dy|) in level-0 texels and lambda_base = log2(rho), with log2
  * taken as llvmpipe (Mesa's OpenGL, the reference renderer) takes it: half the piecewise-linear log2
- * of rho squared. Being exact at powers of two and monotonic, it makes every discrete choice
- * (magnification or minification, the nearest level) exactly where log2 would; it only moves
- * trilinear blend weights, by at most 0.043 of a level, and so agrees with llvmpipe within 3/255
- * where the exact log2 differs by up to 10/255 on noisy textures. */
+ * of rho squared. Being exact at powers of two and monotonic, it makes the discrete choices
+ * (magnification or minification, the nearest level) where log2 would, unless a lod bias shifts
+ * them off powers of two; it moves trilinear blend weights by at most 0.043 of a level, and so
+ * agrees with llvmpipe within 3/255 where the exact log2 differs by up to 10/255 on noisy textures. */
 float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
   const float2 size = (float2)((float)t.desc->width, (float)t.desc->height);
   const float2 dx = duv_dx * size;
