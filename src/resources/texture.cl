@@ -1,8 +1,9 @@
 /* texture.cl: sampling textures in software, by OpenGL 4.6's rules (sections 8.14 and 8.15).
  *
  * A texture is its buffer and its TextureDesc (types.h): every level in one buffer, and the sampler's
- * state. Reading buffers directly is about three times faster than read_imagef on PoCL, works on
- * every device, and lets every format and every wrap mode follow OpenGL to the texel.
+ * state. Reading buffers directly is faster than read_imagef on PoCL (bilinear RGBA8: about 26 ms per
+ * million samples against 41), has mipmaps, works on every device, and lets every format and wrap
+ * mode follow OpenGL to the texel.
  *
  *   level of detail   lambda = clamp(lambda_base + clamp(lod_bias, +-CLR_MAX_TEXTURE_LOD_BIAS),
  *                                  min_lod, max_lod)
@@ -136,6 +137,8 @@ float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
   const int q = desc->levels - 1; /* the last level */
   switch (desc->mip_filter) {
     case CLR_MIP_NEAREST: {
+      /* OpenGL's rule: a tie (lambda = k + 1/2) takes the finer level. (llvmpipe rounds ties to even
+       * for explicit lods and up for gradients: lod 1.5 is level 2 there.) */
       int level = q;
       if (lambda <= 0.5f) level = 0;
       else if (lambda <= (float)q + 0.5f) level = (int)ceil(lambda + 0.5f) - 1;
