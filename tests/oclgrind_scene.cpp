@@ -2,8 +2,9 @@
 // shaded once per draw), non-indexed strips and fans (vertices shaded per chunk), clipping at the near
 // plane, culling, scissor, additive blending; and a user program shaded in quads (derivatives and
 // texture sampling exchange values between work-items) into two attachments with stencil, blending
-// and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device. Run under Oclgrind by oclgrind_check.sh, which fails on
-// any data race, out-of-bounds access, uninitialized read or API error Oclgrind reports.
+// and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device; and
+// mipmaps of a texture with odd sides. Run under Oclgrind by oclgrind_check.sh, which fails on any
+// data race, out-of-bounds access, uninitialized read or API error Oclgrind reports.
 #include "clraster/clraster.hpp"
 
 #include <cstdint>
@@ -43,6 +44,11 @@ int main() {
     fan.state.cull = clraster::CullMode::Back;
     fan.state.shading = clraster::Shading::Lambert;
     target.draw(fan);
+
+    // Mipmaps of a texture with odd sides (5x3 -> 2x1 -> 1x1), in sRGB.
+    const std::vector<std::byte> odd_texels(5 * 3 * 4, std::byte{200});
+    const clraster::Texture texture(context, 5, 3, clraster::Format::SRGB8_A8, odd_texels);
+    std::printf("texture level 2: %d bytes\n", static_cast<int>(texture.read(2).size()));
 
     const clraster::Image image = target.read_color();
 

@@ -54,7 +54,8 @@ const cl::Program& ContextState::core_program() {
 
 pipeline::Pipeline& ContextState::get_pipeline() {
   if (!pipeline) {
-    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.tile_size, options.memory_cap);
+    pipeline =
+        std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.tile_size, options.memory_cap);
   }
   return *pipeline;
 }

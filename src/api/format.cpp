@@ -13,8 +13,13 @@ constexpr bool is_integer(int channel_type) {
 }
 
 #define CLR_FORMAT_INFO_ROW(id, name, channels, type, depth, stencil) \
-  FormatInfo{(channels) * CLR_CHANNEL_BYTES(type), channels, is_integer(type), (type) == CLR_CHANNEL_SINT32, depth != 0, \
-             stencil != 0, name},
+  FormatInfo{(channels)*CLR_CHANNEL_BYTES(type),                      \
+             channels,                                                \
+             is_integer(type),                                        \
+             (type) == CLR_CHANNEL_SINT32,                            \
+             depth != 0,                                              \
+             stencil != 0,                                            \
+             name},
 constexpr std::array<FormatInfo, CLR_FORMAT_COUNT> kFormats{{CLR_FORMAT_TABLE(CLR_FORMAT_INFO_ROW)}};
 #undef CLR_FORMAT_INFO_ROW
 

@@ -20,7 +20,8 @@ namespace {
 
 std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
-void check_size(int width, int height) {
+void check_format_and_size(Format format, int width, int height) {
+  format_info(format);  // throws for a format that does not exist
   if (width < 1 || height < 1 || width > kMaxTextureSize || height > kMaxTextureSize) {
     throw InvalidArgument("texture size " + size_text(width, height) + " is out of range: each side must be 1.." +
                           std::to_string(kMaxTextureSize));
@@ -37,8 +38,8 @@ int resolve_levels(Format format, int width, int height, int levels) {
   }
   if (format_info(format).stencil && levels != 1) {
     // The stencil plane follows level 0 (TextureDesc::stencil_offset): there is room for one level.
-    throw InvalidArgument(std::string(format_info(format).name) + " textures have one level; " + std::to_string(levels) +
-                          " requested");
+    throw InvalidArgument(std::string(format_info(format).name) + " textures have one level; " +
+                          std::to_string(levels) + " requested");
   }
   return levels;
 }
@@ -49,24 +50,23 @@ void check_level_data(Format format, int width, int height, int level, std::size
   const std::size_t bytes = static_cast<std::size_t>(level_width) * static_cast<std::size_t>(level_height) *
                             static_cast<std::size_t>(format_info(format).bytes_per_texel);
   if (texels != bytes) {
-    throw InvalidArgument("level " + std::to_string(level) + " of a " + size_text(width, height) + " " +
-                          format_info(format).name + " texture is " + size_text(level_width, level_height) + " texels, " +
-                          std::to_string(bytes) + " bytes; got " + std::to_string(texels) + " bytes");
+    throw InvalidArgument("level " + std::to_string(level) + " of the " + size_text(width, height) + " " +
+                          format_info(format).name + " texture is " + size_text(level_width, level_height) +
+                          " texels, " + std::to_string(bytes) + " bytes; got " + std::to_string(texels) + " bytes");
   }
 }
 
 void check_mipmappable(Format format) {
   const FormatInfo& info = format_info(format);
   if (info.integer || info.depth) {
-    throw InvalidArgument(std::string("cannot generate mipmaps of a ") + info.name + " texture: " +
-                          (info.integer ? "integer" : "depth") + " formats cannot be filtered");
+    throw InvalidArgument(std::string("cannot generate mipmaps for ") + info.name +
+                          " textures: " + (info.integer ? "integer" : "depth") + " formats cannot be filtered");
   }
 }
 
 // A new zero-filled texture.
 std::unique_ptr<Texture::Impl> make_texture(Context& context, int width, int height, Format format, int levels) {
-  format_info(format);  // throws for a format that does not exist
-  check_size(width, height);
+  check_format_and_size(format, width, height);
   auto impl = std::make_unique<Texture::Impl>();
   impl->state = context.impl().state;
   impl->format = format;
@@ -74,7 +74,7 @@ std::unique_ptr<Texture::Impl> make_texture(Context& context, int width, int hei
   impl->height = height;
   impl->levels = resolve_levels(format, width, height, levels);
   const std::size_t bytes = resources::texture_layout(format, width, height, impl->levels).total_bytes;
-  const std::string what = "a " + size_text(width, height) + " " + format_info(format).name + " texture's " +
+  const std::string what = "the " + size_text(width, height) + " " + format_info(format).name + " texture's " +
                            std::to_string(impl->levels) + " levels";
   check_allocation(*impl->state, bytes, what.c_str());
   translate_cl_errors([&] {
@@ -131,8 +131,8 @@ struct StbiFree {
 
 TextureDesc Texture::Impl::describe(const Sampler& sampler) const {
   static_assert(static_cast<int>(Filter::Linear) == CLR_FILTER_LINEAR &&
-                static_cast<int>(MipFilter::Linear) == CLR_MIP_LINEAR &&
-                static_cast<int>(Wrap::MirroredRepeat) == CLR_WRAP_MIRRORED_REPEAT,
+                    static_cast<int>(MipFilter::Linear) == CLR_MIP_LINEAR &&
+                    static_cast<int>(Wrap::MirroredRepeat) == CLR_WRAP_MIRRORED_REPEAT,
                 "the sampler enums must follow CLR_FILTER_*, CLR_MIP_* and CLR_WRAP_*");
   const auto in_range = [](auto value, auto last) {
     return static_cast<int>(value) >= 0 && static_cast<int>(value) <= static_cast<int>(last);
@@ -180,8 +180,7 @@ Texture::Texture(Context& context, int width, int height, Format format, int lev
 Texture::Texture(Context& context, int width, int height, Format format, std::span<const std::byte> level0,
                  bool mipmaps) {
   // Everything is checked before the texture is allocated.
-  format_info(format);
-  check_size(width, height);
+  check_format_and_size(format, width, height);
   check_level_data(format, width, height, 0, level0.size());
   if (mipmaps) check_mipmappable(format);
   impl_ = make_texture(context, width, height, format, mipmaps ? kFullMipChain : 1);
@@ -253,8 +252,8 @@ void Texture::generate_mipmaps() {
   ContextState& state = *impl_->state;
   translate_cl_errors([&] {
     // texture_downsample samples each level bilinearly, clamped to its edges.
-    const TextureDesc desc = impl_->describe(
-        Sampler{Filter::Linear, Filter::Linear, MipFilter::None, Wrap::ClampToEdge, Wrap::ClampToEdge});
+    const TextureDesc desc =
+        impl_->describe(Sampler{Filter::Linear, Filter::Linear, MipFilter::None, Wrap::ClampToEdge, Wrap::ClampToEdge});
     cl::Buffer desc_buffer(state.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof desc,
                            const_cast<TextureDesc*>(&desc));
     cl::Kernel kernel(state.core_program(), "texture_downsample");
@@ -281,7 +280,8 @@ std::vector<std::byte> Texture::read(int level) const {
 
 std::vector<std::uint8_t> Texture::read_stencil() const {
   const FormatInfo& info = format_info(impl_->format);
-  if (!info.stencil) throw InvalidArgument(std::string("read_stencil needs a texture with stencil; this one is ") + info.name);
+  if (!info.stencil)
+    throw InvalidArgument(std::string("read_stencil needs a texture with stencil; this one is ") + info.name);
   std::vector<std::uint8_t> stencil(static_cast<std::size_t>(impl_->width) * static_cast<std::size_t>(impl_->height));
   const std::size_t offset = resources::texture_layout(impl_->format, impl_->width, impl_->height, 1).stencil_offset;
   translate_cl_errors([&] {

@@ -34,24 +34,41 @@ clr_texel_layout clr_texel_layout_of(int format) {
 
 bool clr_channel_is_integer(int type) { return type == CLR_CHANNEL_SINT32 || type == CLR_CHANNEL_UINT32; }
 
-/* ---- One channel: its stored bits, and their value ------------------------------------------------- */
+/* ---- A texel's stored bits --------------------------------------------------------------------------
+ * Channel c of the texel in bits.s[c], as stored (zero-extended); channels the format lacks are 0.
+ * Whole texels are read and written with vector loads and stores. */
 
-/* The bits of channel `element`, counted in channels from `data`. */
-uint clr_read_channel(int type, __global const uchar* data, size_t element) {
-  switch (CLR_CHANNEL_BYTES(type)) {
-    case 1: return data[element];
-    case 2: return ((__global const ushort*)data)[element];
-    default: return ((__global const uint*)data)[element];
+#define CLR_READ_CHANNELS(T)                                                                    \
+  if (layout.channels == 4) bits = convert_uint4(vload4(index, (__global const T*)data));         \
+  else if (layout.channels == 2) bits.xy = convert_uint2(vload2(index, (__global const T*)data)); \
+  else if (layout.channels == 1) bits.x = ((__global const T*)data)[index];
+
+uint4 clr_read_texel(clr_texel_layout layout, __global const uchar* data, uint index) {
+  uint4 bits = (uint4)(0u);
+  switch (CLR_CHANNEL_BYTES(layout.channel_type)) {
+    case 1: CLR_READ_CHANNELS(uchar) break;
+    case 2: CLR_READ_CHANNELS(ushort) break;
+    default: CLR_READ_CHANNELS(uint) break;
+  }
+  return bits;
+}
+#undef CLR_READ_CHANNELS
+
+#define CLR_WRITE_CHANNELS(T, convert2, convert4)                                      \
+  if (layout.channels == 4) vstore4(convert4(bits), index, (__global T*)data);         \
+  else if (layout.channels == 2) vstore2(convert2(bits.xy), index, (__global T*)data); \
+  else if (layout.channels == 1) ((__global T*)data)[index] = (T)bits.x;
+
+void clr_write_texel(clr_texel_layout layout, __global uchar* data, uint index, uint4 bits) {
+  switch (CLR_CHANNEL_BYTES(layout.channel_type)) {
+    case 1: CLR_WRITE_CHANNELS(uchar, convert_uchar2, convert_uchar4) break;
+    case 2: CLR_WRITE_CHANNELS(ushort, convert_ushort2, convert_ushort4) break;
+    default: CLR_WRITE_CHANNELS(uint, , ) break;
   }
 }
+#undef CLR_WRITE_CHANNELS
 
-void clr_write_channel(int type, __global uchar* data, size_t element, uint bits) {
-  switch (CLR_CHANNEL_BYTES(type)) {
-    case 1: data[element] = (uchar)bits; break;
-    case 2: ((__global ushort*)data)[element] = (ushort)bits; break;
-    default: ((__global uint*)data)[element] = bits; break;
-  }
-}
+/* ---- Bits to values and back, for the non-integer channel types --------------------------------------- */
 
 /* sRGB-encoded byte c to linear: OpenGL's formula evaluated in double precision and rounded to float,
  * so decoding is exact (tests/test_textures.cpp checks every entry against the formula). */
@@ -96,98 +113,84 @@ __constant float clr_srgb_to_linear_table[256] = {
 };
 
 /* OpenGL's float to unorm8 conversion. fmax turns NaN into 0. */
-uint clr_float_to_unorm8(float x) { return convert_uint(fmin(fmax(x, 0.0f), 1.0f) * 255.0f + 0.5f); }
+uint4 clr_float_to_unorm8(float4 x) { return convert_uint4(fmin(fmax(x, 0.0f), 1.0f) * 255.0f + 0.5f); }
 
 /* OpenGL's linear to sRGB encoding, before the unorm8 conversion (which clamps what is below 0 or
  * above 1, and NaN). */
-float clr_linear_to_srgb(float linear) {
-  return linear < 0.0031308f ? 12.92f * linear : 1.055f * powr(linear, 1.0f / 2.4f) - 0.055f;
+float4 clr_linear_to_srgb(float4 linear) {
+  return select(1.055f * powr(linear, 1.0f / 2.4f) - 0.055f, 12.92f * linear, linear < 0.0031308f);
 }
 
-/* Channel `channel` (0 = r .. 3 = a) of a non-integer type: float value to stored bits, and back. */
-uint clr_encode_channel(int type, int channel, float value) {
+uint4 clr_encode_texel(int type, float4 value) {
   switch (type) {
     case CLR_CHANNEL_UNORM8: return clr_float_to_unorm8(value);
-    case CLR_CHANNEL_SRGB8: return clr_float_to_unorm8(channel < 3 ? clr_linear_to_srgb(value) : value);
+    case CLR_CHANNEL_SRGB8: return clr_float_to_unorm8((float4)(clr_linear_to_srgb(value).xyz, value.w));
     case CLR_CHANNEL_FLOAT16: {
-      ushort bits; /* half is a storage type only (no cl_khr_fp16): convert through its bits */
-      vstore_half_rte(value, 0, (half*)&bits);
-      return bits;
+      ushort4 bits; /* half is a storage type only (no cl_khr_fp16): convert through its bits */
+      vstore_half4_rte(value, 0, (half*)&bits);
+      return convert_uint4(bits);
     }
-    default: return as_uint(value);
+    default: return as_uint4(value);
   }
 }
 
-float clr_decode_channel(int type, int channel, uint bits) {
+float4 clr_decode_texel(int type, uint4 bits) {
   switch (type) {
-    case CLR_CHANNEL_UNORM8: return (float)bits / 255.0f;
-    case CLR_CHANNEL_SRGB8: return channel < 3 ? clr_srgb_to_linear_table[bits & 0xffu] : (float)bits / 255.0f;
+    case CLR_CHANNEL_UNORM8: return convert_float4(bits) / 255.0f;
+    case CLR_CHANNEL_SRGB8:
+      return (float4)(clr_srgb_to_linear_table[bits.x & 0xffu], clr_srgb_to_linear_table[bits.y & 0xffu],
+                      clr_srgb_to_linear_table[bits.z & 0xffu], (float)bits.w / 255.0f);
     case CLR_CHANNEL_FLOAT16: {
-      const ushort half_bits = (ushort)bits;
-      return vload_half(0, (const half*)&half_bits);
+      const ushort4 half_bits = convert_ushort4(bits);
+      return vload_half4(0, (const half*)&half_bits);
     }
-    default: return as_float(bits);
+    default: return as_float4(bits);
   }
 }
 
 /* ---- Whole texels ---------------------------------------------------------------------------------- */
 
+/* Channels a format lacks decode to 0 (every type decodes zero bits to 0); alpha becomes 1. */
+float4 clr_complete_texel(clr_texel_layout layout, float4 value) {
+  if (layout.channels < 4) value.w = 1.0f;
+  return value;
+}
+
 float4 clr_load_texel_float(int format, __global const uchar* data, uint index) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
-  float value[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  if (!clr_channel_is_integer(layout.channel_type)) {
-    const size_t first = (size_t)index * layout.channels;
-    for (int c = 0; c < layout.channels; ++c) {
-      value[c] = clr_decode_channel(layout.channel_type, c, clr_read_channel(layout.channel_type, data, first + c));
-    }
-  }
-  return vload4(0, value);
+  if (clr_channel_is_integer(layout.channel_type)) return (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+  return clr_complete_texel(layout, clr_decode_texel(layout.channel_type, clr_read_texel(layout, data, index)));
 }
 
 void clr_store_texel_float(int format, __global uchar* data, uint index, float4 value) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
   if (clr_channel_is_integer(layout.channel_type)) return;
-  float channel[4];
-  vstore4(value, 0, channel);
-  const size_t first = (size_t)index * layout.channels;
-  for (int c = 0; c < layout.channels; ++c) {
-    clr_write_channel(layout.channel_type, data, first + c, clr_encode_channel(layout.channel_type, c, channel[c]));
-  }
+  clr_write_texel(layout, data, index, clr_encode_texel(layout.channel_type, value));
 }
 
 /* What clr_store_texel_float followed by clr_load_texel_float gives, without the memory. */
 float4 clr_quantize_float(int format, float4 value) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
-  float result[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  if (!clr_channel_is_integer(layout.channel_type)) {
-    float channel[4];
-    vstore4(value, 0, channel);
-    for (int c = 0; c < layout.channels; ++c) {
-      result[c] = clr_decode_channel(layout.channel_type, c, clr_encode_channel(layout.channel_type, c, channel[c]));
-    }
-  }
-  return vload4(0, result);
+  if (clr_channel_is_integer(layout.channel_type)) return (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+  const float4 decoded = clr_decode_texel(layout.channel_type, clr_encode_texel(layout.channel_type, value));
+  /* Only the channels the format has survive a store. */
+  const int4 stored = (int4)(0, 1, 2, 3) < layout.channels;
+  return clr_complete_texel(layout, select((float4)(0.0f), decoded, stored));
 }
 
 /* Integer formats hold 32-bit words: a signed load or store is an unsigned one reinterpreted (and a
  * signed access of an unsigned format, which OpenGL leaves undefined, reinterprets the words too). */
 uint4 clr_load_texel_uint(int format, __global const uchar* data, uint index) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
-  uint value[4] = {0u, 0u, 0u, 1u};
-  if (clr_channel_is_integer(layout.channel_type)) {
-    const size_t first = (size_t)index * layout.channels;
-    for (int c = 0; c < layout.channels; ++c) value[c] = clr_read_channel(layout.channel_type, data, first + c);
-  }
-  return vload4(0, value);
+  if (!clr_channel_is_integer(layout.channel_type)) return (uint4)(0u, 0u, 0u, 1u);
+  uint4 bits = clr_read_texel(layout, data, index);
+  if (layout.channels < 4) bits.w = 1u;
+  return bits;
 }
 
 void clr_store_texel_uint(int format, __global uchar* data, uint index, uint4 value) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
-  if (!clr_channel_is_integer(layout.channel_type)) return;
-  uint channel[4];
-  vstore4(value, 0, channel);
-  const size_t first = (size_t)index * layout.channels;
-  for (int c = 0; c < layout.channels; ++c) clr_write_channel(layout.channel_type, data, first + c, channel[c]);
+  if (clr_channel_is_integer(layout.channel_type)) clr_write_texel(layout, data, index, value);
 }
 
 int4 clr_load_texel_int(int format, __global const uchar* data, uint index) {
