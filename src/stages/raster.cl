@@ -159,6 +159,11 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_SHADING
   __local float4 quad_exchange[CLR_TILE_PIXELS];
   __local uint group_coverage[CLR_RASTER_TRIANGLE_BATCH / 32]; /* bit i: triangle i covers a pixel */
+  /* Bit i: triangle i covers this pixel. In local memory, not in a private array: PoCL 3.1 keeps one
+   * copy for the whole group of a private array that lives across the fragment program's barriers,
+   * and with the coverage bits (or the edge values) in one, every pixel of a tile was shaded as live,
+   * or as a helper, as one of them was. Private arrays here live between two barriers only. */
+  __local uint pixel_coverage[CLR_TILE_PIXELS][CLR_RASTER_TRIANGLE_BATCH / 32];
 #endif
   const uint tile = get_group_id(1) * tiles_x + get_group_id(0);
   const uint begin = tile_ranges[2 * tile];
@@ -202,21 +207,23 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_SHADING
     if (lane < CLR_RASTER_TRIANGLE_BATCH / 32) group_coverage[lane] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    uint covered[CLR_RASTER_TRIANGLE_BATCH / 32] = {0};
-    long e[3];
-    for (uint i = 0; i < n; ++i) {
-      if (writable && triangle_covers(&batch[i], x, y, e)) covered[i / 32] |= 1u << (i % 32);
-    }
     for (uint w = 0; w < CLR_RASTER_TRIANGLE_BATCH / 32; ++w) {
-      if (covered[w]) atomic_or(&group_coverage[w], covered[w]);
+      uint covered = 0;
+      long e[3];
+      for (uint i = w * 32; i < min(n, w * 32 + 32); ++i) {
+        if (writable && triangle_covers(&batch[i], x, y, e)) covered |= 1u << (i % 32);
+      }
+      pixel_coverage[lane][w] = covered;
+      if (covered) atomic_or(&group_coverage[w], covered);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint i = 0; i < n; ++i) {
       /* The same decision in every work-item, so all of them reach the program's barriers. */
       if (!(group_coverage[i / 32] & (1u << (i % 32)))) continue;
+      long e[3];
       edge_values(&batch[i], x, y, e);
-      process_fragment(&batch[i], x, y, e, (covered[i / 32] >> (i % 32)) & 1u, &f, tile_color, &tile_depth[lane],
-                       &tile_stencil[lane], u);
+      process_fragment(&batch[i], x, y, e, (pixel_coverage[lane][i / 32] >> (i % 32)) & 1u, &f, tile_color,
+                       &tile_depth[lane], &tile_stencil[lane], u);
     }
 #else
     barrier(CLK_LOCAL_MEM_FENCE);
