@@ -152,12 +152,28 @@ float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
 /* textureLod: an explicit level of detail, to which the sampler's bias and lod range still apply. */
 float4 clr_sample_lod(clr_texture t, float2 uv, float lod) { return clr_sample_lambda(t, uv, lod); }
 
+/* log2(x) approximated as llvmpipe's lp_build_fast_log2 does: exact at powers of two and linear in
+ * between, floor(log2(x)) + x / 2^floor(log2(x)) - 1, at most 0.086 below log2(x). Zero, infinities
+ * and NaN go to log2 (-inf, inf, NaN), where the approximation has nothing to add. */
+float clr_fast_log2(float x) {
+  if (!(x > 0.0f) || isinf(x)) return log2(x);
+  int exponent;
+  const float mantissa = frexp(x, &exponent); /* x = mantissa * 2^exponent, mantissa in [0.5, 1) */
+  return (float)(exponent - 1) + (2.0f * mantissa - 1.0f);
+}
+
 /* textureGrad: the level of detail from the derivatives of (s, t) along window x and y:
- * rho = max(|d(u, v)/dx|, |d(u, v)/dy|) in level-0 texels, lambda_base = log2(rho). */
+ * rho = max(|d(u, v)/dx|, |d(u, v)/dy|) in level-0 texels, lambda_base = log2(rho).
+ * OpenGL lets implementations approximate this function (section 8.14.1). clraster computes it as
+ * llvmpipe does (gallivm's lp_build_lod_selector: lambda_base = 0.5 * fast_log2(rho^2)), so that its
+ * mip selection and trilinear weights agree with the oracle's: exact log2 chose levels up to 0.043
+ * higher than llvmpipe across a receding plane, enough to move trilinear results by several 1/255. */
 float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
   const float2 size = (float2)((float)t.desc->width, (float)t.desc->height);
-  const float rho = fmax(length(duv_dx * size), length(duv_dy * size));
-  return clr_sample_lambda(t, uv, log2(rho));
+  const float2 dx = duv_dx * size;
+  const float2 dy = duv_dy * size;
+  const float rho_squared = fmax(dot(dx, dx), dot(dy, dy));
+  return clr_sample_lambda(t, uv, 0.5f * clr_fast_log2(rho_squared));
 }
 
 /* ---- Mipmap generation ------------------------------------------------------------------------------------ */
