@@ -433,5 +433,311 @@ TEST_F(Derivatives, HelpersWriteNothing) {
   EXPECT_GT(covered, 500);
 }
 
+
+// ---- 3. Framebuffer fetch --------------------------------------------------------------------------------
+
+// Each fragment reads both attachments as earlier fragments left them (of its own draw too) and
+// writes functions of them no blend equation computes: |first - tint * u| and first * second + tint / 4,
+// over two draws of overlapping triangles.
+constexpr const char* kFetchProgram = R"(
+clr_attribute(float4, position)
+clr_attribute(float2, uv)
+clr_varying(float2, uv)
+clr_uniform(float4, tint)
+clr_output(float4, first)
+clr_output(float4, second)
+
+void vertex(clr_vertex* v) {
+  v->position = v->in.position;
+  v->out.uv = v->in.uv;
+}
+void fragment(clr_fragment* f) {
+  const float4 a = clr_framebuffer_fetch(f, 0);
+  const float4 b = clr_framebuffer_fetch(f, 1);
+  f->out.first = fabs(a - f->uniforms->tint * (f->in.uv.x * 0.25f));
+  f->out.second = a * b + f->uniforms->tint * 0.25f;
+}
+)";
+
+constexpr const char* kGlslFetch = R"(#version 450 core
+#extension GL_EXT_shader_framebuffer_fetch : require
+in vec2 v_uv;
+uniform vec4 tint;
+layout(location = 0) inout vec4 first;
+layout(location = 1) inout vec4 second;
+void main() {
+  vec4 a = first;
+  vec4 b = second;
+  first = abs(a - tint * (v_uv.x * 0.25));
+  second = a * b + tint * 0.25;
+}
+)";
+
+struct FetchCase {
+  const char* name;
+  std::array<Format, 2> formats;
+  double tolerance;  // 8-bit: a result within float rounding of a tie may round either way
+};
+void PrintTo(const FetchCase& c, std::ostream* out) { *out << c.name; }
+
+class FramebufferFetch : public ::testing::TestWithParam<FetchCase> {};
+
+TEST_P(FramebufferFetch, MatchesExtShaderFramebufferFetch) {
+  const FetchCase& c = GetParam();
+  const ClipTriangles triangles = grid_triangles(16);
+  ProgramPair program(kFetchProgram, kGlslClipVertex, kGlslFetch, "fetch.cl");
+  FramebufferPair target(kDerivativeSize, kDerivativeSize, {c.formats[0], c.formats[1]});
+  target.clear({0.2f, 0.4f, 0.6f, 0.8f});
+  ProgramDraw draw;
+  draw.attributes = {{"position", AttributeType::Float4, triangles.positions},
+                     {"uv", AttributeType::Float2, triangles.uvs}};
+  draw.state.depth_test = false;
+  for (const std::array<float, 4>& tint : {std::array{0.9f, 0.3f, 0.5f, 1.0f}, std::array{0.1f, 0.7f, 0.35f, 0.6f}}) {
+    program.set("tint", tint);
+    target.draw(program, draw);
+  }
+  for (int k = 0; k < 2; ++k) EXPECT_TRUE(texels_match(target.color(k), {.tolerance = c.tolerance})) << "attachment " << k;
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, FramebufferFetch,
+                         ::testing::Values(FetchCase{"RGBA8", {Format::RGBA8, Format::RGBA8}, 1.0 / 255},
+                                           FetchCase{"RGBA32F", {Format::RGBA32F, Format::RGBA32F}, 1e-5},
+                                           FetchCase{"RGBA8AndRGBA32F", {Format::RGBA8, Format::RGBA32F}, 1.0 / 255}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+// ---- 4. Programmable blending: the PDF blend modes ----------------------------------------------------------
+
+// The 15 modes, as the library names them and as KHR_blend_equation_advanced does.
+struct BlendModeCase {
+  const char* function;  // clr_blend_<function>
+  oracle::AdvancedBlend equation;
+};
+void PrintTo(const BlendModeCase& c, std::ostream* out) { *out << c.function; }
+
+// Premultiplied colours from the vertices (alpha 0.25 to 1), drawn over a background of other
+// premultiplied colours (alpha 0.4 to 1) that the first draw writes without blending.
+constexpr const char* kPremultipliedVertex = R"(#version 450 core
+in vec4 position;
+in vec4 color;
+out vec4 v_color;
+void main() {
+  gl_Position = position;
+  v_color = vec4(color.rgb * color.a, color.a);
+}
+)";
+
+std::string blend_program(const char* function) {
+  return std::string(R"(
+clr_attribute(float4, position)
+clr_attribute(float4, color)
+clr_varying(float4, color)
+clr_output(float4, result)
+
+void vertex(clr_vertex* v) {
+  v->position = v->in.position;
+  v->out.color = (float4)(v->in.color.xyz * v->in.color.w, v->in.color.w);
+}
+void fragment(clr_fragment* f) { f->out.result = f->in.color; }
+float4 blend(clr_fragment* f, uint target, float4 source, float4 destination) {
+  return clr_blend_)") + function + "(source, destination);\n}\n";
+}
+
+constexpr const char* kGlslAdvancedBlend = R"(#version 450 core
+#extension GL_KHR_blend_equation_advanced : require
+layout(blend_support_all_equations) out;
+in vec4 v_color;
+out vec4 result;
+void main() { result = v_color; }
+)";
+
+// A full-screen pair of triangles with a colour per corner (x, y, z, w and r, g, b, a).
+ProgramDraw colored_rectangle(std::array<float, 16> corner_colors) {
+  ProgramDraw draw;
+  draw.attributes = {{"position", AttributeType::Float4, {-1, -1, 0.5f, 1, 1, -1, 0.5f, 1, 1, 1, 0.5f, 1, -1, 1, 0.5f, 1}},
+                     {"color", AttributeType::Float4, std::vector<float>(corner_colors.begin(), corner_colors.end())}};
+  draw.indices = kQuadIndices;
+  draw.state.depth_test = false;
+  return draw;
+}
+
+class ProgrammableBlend : public ::testing::TestWithParam<BlendModeCase> {};
+
+// 8-bit attachments: both compute in float from the same 8-bit destination and round once, so a
+// result may differ by one where it lies within float rounding of a rounding tie.
+TEST_P(ProgrammableBlend, MatchesKhrBlendEquationAdvanced) {
+  const BlendModeCase& c = GetParam();
+  FramebufferPair target(kDerivativeSize, kDerivativeSize, {Format::RGBA8});
+  target.clear({0, 0, 0, 0});
+  ProgramPair background(blend_program(c.function), kPremultipliedVertex,
+                         "#version 450 core\nin vec4 v_color;\nout vec4 result;\nvoid main() { result = v_color; }\n",
+                         "background.cl");
+  target.draw(background, colored_rectangle({0.9f, 0.1f, 0.3f, 1.0f, 0.2f, 0.8f, 0.4f, 0.4f,  //
+                                             0.1f, 0.3f, 0.9f, 0.7f, 0.6f, 0.6f, 0.1f, 1.0f}));
+  ProgramPair blended(blend_program(c.function), kPremultipliedVertex, kGlslAdvancedBlend, "blend.cl");
+  ProgramDraw draw = colored_rectangle({0.2f, 0.9f, 0.7f, 0.25f, 1.0f, 0.5f, 0.0f, 1.0f,  //
+                                        0.4f, 0.2f, 0.6f, 0.6f, 0.95f, 0.95f, 0.3f, 0.8f});
+  draw.state.blend[0] = kProgramBlend;
+  draw.gl_state = draw.state;
+  draw.gl_state->blend[0] = BlendState{};
+  draw.gl_advanced_blend = c.equation;
+  target.draw(blended, draw);
+  EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 1.0 / 255}));
+}
+
+using oracle::AdvancedBlend;
+INSTANTIATE_TEST_SUITE_P(
+    PdfModes, ProgrammableBlend,
+    ::testing::Values(BlendModeCase{"multiply", AdvancedBlend::Multiply}, BlendModeCase{"screen", AdvancedBlend::Screen},
+                      BlendModeCase{"overlay", AdvancedBlend::Overlay}, BlendModeCase{"darken", AdvancedBlend::Darken},
+                      BlendModeCase{"lighten", AdvancedBlend::Lighten},
+                      BlendModeCase{"colordodge", AdvancedBlend::ColorDodge},
+                      BlendModeCase{"colorburn", AdvancedBlend::ColorBurn},
+                      BlendModeCase{"hardlight", AdvancedBlend::HardLight},
+                      BlendModeCase{"softlight", AdvancedBlend::SoftLight},
+                      BlendModeCase{"difference", AdvancedBlend::Difference},
+                      BlendModeCase{"exclusion", AdvancedBlend::Exclusion},
+                      BlendModeCase{"hsl_hue", AdvancedBlend::HslHue},
+                      BlendModeCase{"hsl_saturation", AdvancedBlend::HslSaturation},
+                      BlendModeCase{"hsl_color", AdvancedBlend::HslColor},
+                      BlendModeCase{"hsl_luminosity", AdvancedBlend::HslLuminosity}),
+    [](const auto& info) { return std::string(info.param.function); });
+
+// ---- 5. Programmable depth test ------------------------------------------------------------------------------
+
+// Window depth (x + 0.5) / 64 at pixel column x: a rectangle from depth 0 at the left edge to 1 at the
+// right (clip z from -1 to 1), drawn over depth cleared to 0.5. Vertices on the pixel grid, w = 1.
+ProgramDraw depth_ramp(DrawState state) {
+  ProgramDraw draw;
+  draw.attributes = {{"position", AttributeType::Float4, {-1, -1, -1, 1, 1, -1, 1, 1, 1, 1, 1, 1, -1, 1, -1, 1}},
+                     {"uv", AttributeType::Float2, {0, 0, 1, 0, 1, 1, 0, 1}}};
+  draw.indices = kQuadIndices;
+  draw.state = state;
+  return draw;
+}
+
+std::string depth_program(const char* depth_test_body) {
+  return std::string(R"(
+clr_attribute(float4, position)
+clr_attribute(float2, uv)
+clr_varying(float2, uv)
+clr_output(float4, color)
+
+void vertex(clr_vertex* v) {
+  v->position = v->in.position;
+  v->out.uv = v->in.uv;
+}
+void fragment(clr_fragment* f) { f->out.color = (float4)(f->in.uv, 1.0f, 1.0f); }
+bool depth_test(clr_fragment* f, float fragment_depth, float stored_depth) {
+  )") + depth_test_body + "\n}\n";
+}
+
+constexpr const char* kGlslUvColor = R"(#version 450 core
+in vec2 v_uv;
+out vec4 color;
+void main() { color = vec4(v_uv, 1.0, 1.0); }
+)";
+
+// A depth_test that is a standard function: the same pixels pass, and store the same depths, as
+// with GL's GL_GREATER (and with depth writes on).
+TEST(ProgrammableDepth, ReversedComparisonMatchesGlGreater) {
+  ProgramPair program(depth_program("return fragment_depth > stored_depth;"), kGlslClipVertex, kGlslUvColor, "depth.cl");
+  FramebufferPair target(kDerivativeSize, kDerivativeSize, {Format::RGBA8}, Format::Depth32F);
+  target.clear({0, 0, 0, 1}, 0.5f);
+  DrawState state;
+  state.depth_func = CompareFunc::Program;
+  ProgramDraw draw = depth_ramp(state);
+  draw.gl_state = state;
+  draw.gl_state->depth_func = CompareFunc::Greater;
+  target.draw(program, draw);
+  EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 0}));
+  EXPECT_TRUE(texels_match(*target.depth_stencil(), {.tolerance = 0}));
+}
+
+// A test GL has no function for: pass within 0.03 of the stored depth. Over depth 0.5, the columns
+// x with |(x + 0.5) / 64 - 0.5| < 0.03, x = 30 to 33 (|x + 0.5 - 32| < 1.92), pass: 4 x 64 pixels,
+// which store their own depth; every other pixel keeps the clear colour and depth 0.5.
+TEST(ProgrammableDepth, CustomToleranceTestPassesExactlyTheExpectedPixels) {
+  Program program(shared_context(), depth_program("return fabs(fragment_depth - stored_depth) < 0.03f;"), "near.cl");
+  Bindings bindings(program);
+  Texture color(shared_context(), kDerivativeSize, kDerivativeSize, Format::RGBA8);
+  Texture depth(shared_context(), kDerivativeSize, kDerivativeSize, Format::Depth32F);
+  Framebuffer target(shared_context(), {&color}, &depth);
+  target.clear({0, 0, 0, 1}, 0.5f);
+  const ProgramDraw ramp = depth_ramp(DrawState{.depth_func = CompareFunc::Program});
+  const Buffer positions(shared_context(), ramp.attributes[0].values), uvs(shared_context(), ramp.attributes[1].values);
+  const IndexBuffer indices(shared_context(), ramp.indices);
+  DrawCall call;
+  call.program = &program;
+  call.bindings = &bindings;
+  call.attributes = {{"position", &positions, AttributeType::Float4}, {"uv", &uvs, AttributeType::Float2}};
+  call.indices = &indices;
+  call.state = ramp.state;
+  target.draw(call);
+
+  const std::vector<float> depths = stored_values(Format::Depth32F, depth.read());
+  const std::vector<float> colors = stored_values(Format::RGBA8, color.read());
+  int passed = 0;
+  for (int y = 0; y < kDerivativeSize; ++y) {
+    for (int x = 0; x < kDerivativeSize; ++x) {
+      const std::size_t pixel = std::size_t(y) * kDerivativeSize + x;
+      const bool expected = x >= 30 && x <= 33;
+      const bool drawn = colors[pixel * 4 + 2] == 1.0f;  // blue 1 from the program, 0 cleared
+      EXPECT_EQ(drawn, expected) << "x " << x << " y " << y;
+      EXPECT_FLOAT_EQ(depths[pixel], expected ? (x + 0.5f) / kDerivativeSize : 0.5f) << "x " << x << " y " << y;
+      passed += drawn;
+    }
+  }
+  EXPECT_EQ(passed, 4 * kDerivativeSize);
+}
+
+// ---- Mipmap generation ---------------------------------------------------------------------------------------
+
+struct MipmapCase {
+  const char* name;
+  Format format;
+  int width, height;
+};
+void PrintTo(const MipmapCase& c, std::ostream* out) { *out << c.name; }
+
+class MipmapGeneration : public ::testing::TestWithParam<MipmapCase> {};
+
+// clraster's generate_mipmaps against glGenerateMipmap from the same level 0, level by level. Both
+// filter each level from the one before, bilinearly at the new texel centres (a 2x2 box where a side
+// halves exactly), decoded (sRGB in linear space). Float levels agree to 1e-5 (the weights of odd
+// sides, summed in another order, move the last bits). 8-bit ones do not
+// round alike: clraster rounds the exact mean (150.00 -> 150, 42.25 -> 42; measured on random
+// texels: 4088 of 4096 level-1 values are the rounded mean, the rest ties), llvmpipe's blit filters
+// in 8-bit fixed point and lands one above it for about a third of them (150.00 -> 151,
+// 42.25 -> 43). Each level is filtered from the previous one, so the bias adds up: level L is
+// within L / 255 (measured: 1, 2, 2, 2, 3, 3 for levels 1 to 6 of a 64x64 RGBA8 texture).
+TEST_P(MipmapGeneration, MatchesGlGenerateMipmap) {
+  const MipmapCase& c = GetParam();
+  const std::vector<float> rgba = pattern_rgba(std::max(c.width, c.height));
+  const int channels = format_info(c.format).channels;
+  std::vector<float> values;
+  for (int y = 0; y < c.height; ++y) {
+    for (int x = 0; x < c.width; ++x) {
+      for (int k = 0; k < channels; ++k) values.push_back(rgba[(std::size_t(y) * std::max(c.width, c.height) + x) * 4 + k]);
+    }
+  }
+  const std::vector<std::byte> level0 = encode_texels(c.format, values);
+  TexturePair pair(c.width, c.height, c.format, kFullMipChain);
+  pair.upload(0, level0);
+  pair.clr.generate_mipmaps();
+  pair.gl.generate_mipmaps();
+  const bool normalized = c.format == Format::RGBA8 || c.format == Format::SRGB8_A8;
+  for (int level = 1; level < pair.clr.levels(); ++level) {
+    EXPECT_TRUE(texels_match(pair, {.tolerance = normalized ? level / 255.0 : 1e-5, .level = level})) << "level " << level;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MipmapGeneration,
+                         ::testing::Values(MipmapCase{"RGBA8", Format::RGBA8, 64, 64},
+                                           MipmapCase{"RGBA8NonPowerOfTwo", Format::RGBA8, 45, 27},
+                                           MipmapCase{"SRGB8_A8", Format::SRGB8_A8, 64, 64},
+                                           MipmapCase{"RGBA32F", Format::RGBA32F, 64, 64},
+                                           MipmapCase{"RGBA32FNonPowerOfTwo", Format::RGBA32F, 45, 27}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
 }  // namespace
 }  // namespace clraster::test
