@@ -230,9 +230,9 @@ bool early_fragment_tests(const ParsedProgram& p) {
 std::size_t shaded_vertex_bytes(const ParsedProgram& p) { return 16 * (1 + (varying_float_count(p) + 3) / 4); }
 
 std::size_t setup_triangle_bytes(const ParsedProgram& p) {
-  // SetupTriangle (types.h): 92 bytes of fixed fields and 3 vertices' varyings, padded to its
+  // SetupTriangle (types.h): 128 bytes of fixed fields and 3 vertices' varyings, padded to its
   // 8-byte alignment. Checked against the compiler by a kernel test.
-  return (92 + 12 * varying_float_count(p) + 7) / 8 * 8;
+  return (128 + 12 * varying_float_count(p) + 7) / 8 * 8;
 }
 
 std::string generate_stage_program(const ParsedProgram& p, const std::string& user_source, const std::string& file_name) {

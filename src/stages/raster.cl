@@ -39,6 +39,11 @@ inline bool triangle_covers(const __local SetupTriangle* t, int x, int y, long* 
   return covered;
 }
 
+/* Edge k's function at (X, Y) for the vertices before snapping, from its value e for the snapped ones. */
+inline float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
+  return (float)e + (t->edge_correction[k][0] * X + t->edge_correction[k][1] * Y + t->edge_correction[k][2]);
+}
+
 /* Varying float j weighted by w (used by the generated clr_interpolate_varyings). */
 inline float clr_weighted_varying(const __local SetupTriangle* t, int j, float3 w) {
   return w.x * t->varyings[0][j] + w.y * t->varyings[1][j] + w.z * t->varyings[2][j];
@@ -119,7 +124,14 @@ void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uin
 inline void process_fragment(const __local SetupTriangle* t, int x, int y, const long* e, bool live, clr_fragment* f,
                              __local uint4* tile_color, __local float* depth, __local uchar* stencil,
                              __constant const DrawUniforms* u) {
-  const float3 l = (float3)((float)e[0], (float)e[1], (float)e[2]) * t->inv_double_area;
+  /* Barycentrics of the unsnapped triangle (see SetupTriangle), as llvmpipe interpolates: those of
+   * the snapped one are off by up to 1/512 pixel over the distance to an edge, which perspective
+   * magnifies (1e-3 of the texture coordinates near a horizon). */
+  const float X = (float)(x << CLR_SUBPIXEL_BITS);
+  const float Y = (float)(y << CLR_SUBPIXEL_BITS);
+  const float3 unsnapped = (float3)(unsnapped_edge(t, 0, e[0], X, Y), unsnapped_edge(t, 1, e[1], X, Y),
+                                    unsnapped_edge(t, 2, e[2], X, Y));
+  const float3 l = unsnapped * t->inv_double_area;
   /* Depth is linear in window space; OpenGL clamps it to the depth range. */
   const float z = clamp(l.x * t->z[0] + l.y * t->z[1] + l.z * t->z[2], 0.0f, 1.0f);
   /* Perspective-correct: interpolate value / w and 1 / w linearly, then divide. */
