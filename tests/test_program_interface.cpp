@@ -5,6 +5,8 @@
 #include "program/interface.hpp"
 #include "support/test_support.hpp"
 
+#include <regex>
+
 namespace clraster::test {
 namespace {
 
@@ -154,6 +156,51 @@ TEST(ProgramCompile, ErrorsPointAtTheUsersFileAndLine) {
               std::string::npos)
         << message;
   }
+}
+
+// The BuildError message of compiling `source` as "shaders/user.cl".
+std::string build_error(const std::string& source) {
+  try {
+    Program(shared_context(), source, "shaders/user.cl");
+  } catch (const BuildError& error) {
+    return error.what();
+  }
+  return "(compiled)";
+}
+
+TEST(ProgramCompile, ErrorsInTheFragmentProgramPointAtTheirLine) {
+  const std::string message = build_error(
+      "clr_output(float4, color)\n"
+      "void vertex(clr_vertex* v) { v->position = (float4)(0.0f, 0.0f, 0.0f, 1.0f); }\n"
+      "void fragment(clr_fragment* f) {\n"
+      "  const float4 c = (float4)(1.0f);\n"
+      "  f->out.colour = c;\n"
+      "}\n");
+  EXPECT_NE(message.find("shaders/user.cl:5:10: error: no member named 'colour'"), std::string::npos) << message;
+}
+
+// A declared type that does not exist is reported on the declaration's line (the column is where the
+// type stands in the generated member, not in the declaration).
+TEST(ProgramCompile, AnUnknownTypeInADeclarationPointsAtTheDeclaration) {
+  const std::string message = build_error(
+      "clr_output(float4, color)\n"
+      "\n"
+      "clr_buffer(no_such_type, b)\n"
+      "void vertex(clr_vertex* v) { v->position = (float4)(0.0f, 0.0f, 0.0f, 1.0f); }\n"
+      "void fragment(clr_fragment* f) { f->out.color = (float4)(1.0f); }\n");
+  EXPECT_TRUE(std::regex_search(message, std::regex(R"(shaders/user\.cl:3:[0-9]+: error: unknown type name 'no_such_type')")))
+      << message;
+}
+
+// Warnings alone do not fail a build.
+TEST(ProgramCompile, AProgramWithOnlyWarningsCompiles) {
+  EXPECT_EQ(build_error("clr_output(float4, color)\n"
+                        "void vertex(clr_vertex* v) { v->position = (float4)(0.0f, 0.0f, 0.0f, 1.0f); }\n"
+                        "void fragment(clr_fragment* f) {\n"
+                        "  int unused = 3;\n"
+                        "  if (unused = 4) f->out.color = (float4)(1.0f);\n"  // assignment as a condition
+                        "}\n"),
+            "(compiled)");
 }
 
 TEST(ProgramCompile, AMissingFileIsAnError) {

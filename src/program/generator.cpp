@@ -18,12 +18,37 @@ std::string component(const std::string& access, int components, int c) {
   return components == 1 ? access : access + kComponent[c];
 }
 
+constexpr const char* kInterfaceName = "<clraster generated interface>";
+
+// A member of a generated struct that the user declared, and the declaration's line.
+struct Member {
+  std::string text;  // "type name"
+  int line;
+};
+
+// The generated interface, written under #line 1 "<clraster generated interface>" from offset
+// `start` of `out`. Each member the user declared goes under a #line directive naming its
+// declaration in the user's file, so that the compiler reports an error in it (an unknown type, say)
+// there; the directive after it returns to the interface's own numbering.
+struct InterfaceWriter {
+  std::ostringstream& out;
+  std::string user_file;  // escaped for #line
+  std::size_t start;
+
+  void member(const Member& m) {
+    out << "#line " << m.line << " \"" << user_file << "\"\n  " << m.text << ";\n";
+    const std::string text = out.str().substr(start);
+    const auto lines_so_far = std::count(text.begin(), text.end(), '\n');
+    out << "#line " << lines_so_far + 2 << " \"" << kInterfaceName << "\"\n";
+  }
+};
+
 // A struct of the given members, or of one placeholder (C has no empty structs).
-void emit_struct(std::ostringstream& out, const char* type_name, const std::vector<std::string>& members) {
-  out << "typedef struct {\n";
-  if (members.empty()) out << "  int clr_none;\n";
-  for (const std::string& member : members) out << "  " << member << ";\n";
-  out << "} " << type_name << ";\n\n";
+void emit_struct(InterfaceWriter& w, const char* type_name, const std::vector<Member>& members) {
+  w.out << "typedef struct {\n";
+  if (members.empty()) w.out << "  int clr_none;\n";
+  for (const Member& member : members) w.member(member);
+  w.out << "} " << type_name << ";\n\n";
 }
 
 std::string buffer_pointer_type(const ProgramVariable& b) { return "__global " + b.type + "*"; }
@@ -41,31 +66,32 @@ void emit_constants(std::ostringstream& out, const ParsedProgram& p) {
   out << "#define CLR_HAS_FLAT_VARYINGS " << (flat ? 1 : 0) << "\n";
 }
 
-void emit_interface(std::ostringstream& out, const ParsedProgram& p) {
+void emit_interface(InterfaceWriter& w, const ParsedProgram& p) {
   const ProgramInterface& in = p.interface;
-  std::vector<std::string> members;
-  for (const ProgramVariable& a : in.attributes) members.push_back(a.type + " " + a.name);
-  emit_struct(out, "clr_attributes", members);
+  std::vector<Member> members;
+  for (const ProgramVariable& a : in.attributes) members.push_back({a.type + " " + a.name, a.line});
+  emit_struct(w, "clr_attributes", members);
   members.clear();
-  for (const ProgramVariable& v : in.varyings) members.push_back(v.type + " " + v.name);
-  emit_struct(out, "clr_varyings", members);
+  for (const ProgramVariable& v : in.varyings) members.push_back({v.type + " " + v.name, v.line});
+  emit_struct(w, "clr_varyings", members);
   members.clear();
   for (const ProgramVariable& u : in.uniforms) {
     std::string member = u.type + " " + u.name;
     if (u.array_size) member += '[' + std::to_string(u.array_size) + ']';
-    members.push_back(member);
+    members.push_back({member, u.line});
   }
-  emit_struct(out, "clr_uniforms", members);
+  emit_struct(w, "clr_uniforms", members);
   members.clear();
-  for (const ProgramVariable& t : in.textures) members.push_back("clr_texture " + t.name);
-  emit_struct(out, "clr_textures", members);
+  for (const ProgramVariable& t : in.textures) members.push_back({"clr_texture " + t.name, t.line});
+  emit_struct(w, "clr_textures", members);
   members.clear();
-  for (const ProgramVariable& b : in.buffers) members.push_back(buffer_pointer_type(b) + " " + b.name);
-  emit_struct(out, "clr_buffers", members);
+  for (const ProgramVariable& b : in.buffers) members.push_back({buffer_pointer_type(b) + " " + b.name, b.line});
+  emit_struct(w, "clr_buffers", members);
   members.clear();
-  for (const ProgramVariable& o : in.outputs) members.push_back(o.type + " " + o.name);
-  emit_struct(out, "clr_outputs", members);
+  for (const ProgramVariable& o : in.outputs) members.push_back({o.type + " " + o.name, o.line});
+  emit_struct(w, "clr_outputs", members);
 
+  std::ostringstream& out = w.out;
   out << R"(/* What the vertex program reads and writes. */
 typedef struct {
   uint vertex_id;        /* the index (indexed draws) or first + position (non-indexed) */
@@ -206,9 +232,9 @@ bool early_fragment_tests(const ParsedProgram& p) {
 std::size_t shaded_vertex_bytes(const ParsedProgram& p) { return 16 * (1 + (varying_float_count(p) + 3) / 4); }
 
 std::size_t setup_triangle_bytes(const ParsedProgram& p) {
-  // SetupTriangle (types.h): 92 bytes of fixed fields and 3 vertices' varyings, padded to its
+  // SetupTriangle (types.h): 128 bytes of fixed fields and 3 vertices' varyings, padded to its
   // 8-byte alignment. Checked against the compiler by a kernel test.
-  return (92 + 12 * varying_float_count(p) + 7) / 8 * 8;
+  return (128 + 12 * varying_float_count(p) + 7) / 8 * 8;
 }
 
 std::string generate_stage_program(const ParsedProgram& p, const std::string& user_source, const std::string& file_name) {
@@ -216,14 +242,15 @@ std::string generate_stage_program(const ParsedProgram& p, const std::string& us
   emit_constants(out, p);
   out << cl_sources::compose({"clr_limits.h", "stages/types.h", "resources/index_range.cl", "resources/format.cl", "resources/texture.cl",
                               "stages/fragment_ops.cl", "program/library/blend_modes.cl"});
-  out << "#line 1 \"<clraster generated interface>\"\n";
-  emit_interface(out, p);
-  out << cl_sources::compose({"program/prelude.cl"});
   std::string quoted;
   for (const char c : file_name) {
     if (c == '"' || c == '\\') quoted += '\\';
     if (c != '\n') quoted += c;
   }
+  out << "#line 1 \"" << kInterfaceName << "\"\n";
+  InterfaceWriter interface{out, quoted, static_cast<std::size_t>(out.tellp())};
+  emit_interface(interface, p);
+  out << cl_sources::compose({"program/prelude.cl"});
   out << "#line 1 \"" << quoted << "\"\n" << user_source << "\n";
   out << cl_sources::compose({"stages/vertex.cl", "stages/clip.cl", "stages/fixed_point.cl", "stages/primitive.cl",
                               "stages/setup.cl", "stages/bin.cl", "stages/raster.cl"});

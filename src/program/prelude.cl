@@ -47,8 +47,11 @@ inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint target) {
  * Values are exchanged through local memory between the tile's work-items, so every fragment of
  * the tile must reach each derivative call (no derivatives inside branches that differ between
  * fragments, the same rule as GLSL's "uniform control flow"). */
-/* dFdx and dFdy without a suffix: coarse, as most GPUs and llvmpipe compute them. */
-#define CLR_DEFAULT_DERIVATIVE_COARSE true
+/* dFdx and dFdy without a suffix: fine, as llvmpipe computes them. llvmpipe computes every variant
+ * (dFdx, dFdxCoarse, dFdxFine) alike, from this fragment's own row or column of its quad: gallivm's
+ * lp_build_ddx subtracts the quad's left pixel from its right one in each row (lp_bld_quad.c), and
+ * tests/test_program_conformance.cpp (Derivatives) finds all three equal to clr_dfdx_fine. */
+#define CLR_DEFAULT_DERIVATIVE_COARSE false
 #define CLR_QUAD_X 0
 #define CLR_QUAD_Y 1
 

@@ -7,8 +7,9 @@
  * arithmetic in 64 bits: exact, watertight and the same on every device. */
 
 typedef struct {
-  int2 fixed; /* snapped window position, pixel centres at multiples of CLR_SUBPIXEL_ONE */
-  float z;    /* window depth */
+  int2 fixed;      /* snapped window position, pixel centres at multiples of CLR_SUBPIXEL_ONE */
+  float2 residual; /* what snapping took away: the position before it is fixed + residual */
+  float z;         /* window depth */
   float inv_w;
   float varyings[CLR_NUM_VARYINGS];
 } WindowVertex;
@@ -21,8 +22,9 @@ inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u
   const float y = v->position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
   const float z = v->position.z * inv_w * 0.5f + 0.5f;
   if (!isfinite(x) || !isfinite(y) || !isfinite(z)) return false;
-  out->fixed = (int2)(convert_int_rte((x - 0.5f) * (float)CLR_SUBPIXEL_ONE),
-                      convert_int_rte((y - 0.5f) * (float)CLR_SUBPIXEL_ONE));
+  const float2 unsnapped = (float2)(x - 0.5f, y - 0.5f) * (float)CLR_SUBPIXEL_ONE;
+  out->fixed = convert_int2_rte(unsnapped);
+  out->residual = unsnapped - convert_float2(out->fixed);
   out->z = z;
   out->inv_w = inv_w;
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) out->varyings[k] = v->varyings[k];

@@ -39,6 +39,11 @@ inline bool triangle_covers(const __local SetupTriangle* t, int x, int y, long* 
   return covered;
 }
 
+/* Edge k's function at (X, Y) for the vertices before snapping, from its value e for the snapped ones. */
+inline float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
+  return (float)e + (t->edge_correction[k][0] * X + t->edge_correction[k][1] * Y + t->edge_correction[k][2]);
+}
+
 /* Varying float j weighted by w (used by the generated clr_interpolate_varyings). */
 inline float clr_weighted_varying(const __local SetupTriangle* t, int j, float3 w) {
   return w.x * t->varyings[0][j] + w.y * t->varyings[1][j] + w.z * t->varyings[2][j];
@@ -119,7 +124,14 @@ void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uin
 inline void process_fragment(const __local SetupTriangle* t, int x, int y, const long* e, bool live, clr_fragment* f,
                              __local uint4* tile_color, __local float* depth, __local uchar* stencil,
                              __constant const DrawUniforms* u) {
-  const float3 l = (float3)((float)e[0], (float)e[1], (float)e[2]) * t->inv_double_area;
+  /* Barycentrics of the unsnapped triangle (see SetupTriangle), as llvmpipe interpolates: those of
+   * the snapped one are off by up to 1/512 pixel over the distance to an edge, which perspective
+   * magnifies (1e-3 of the texture coordinates near a horizon). */
+  const float X = (float)(x << CLR_SUBPIXEL_BITS);
+  const float Y = (float)(y << CLR_SUBPIXEL_BITS);
+  const float3 unsnapped = (float3)(unsnapped_edge(t, 0, e[0], X, Y), unsnapped_edge(t, 1, e[1], X, Y),
+                                    unsnapped_edge(t, 2, e[2], X, Y));
+  const float3 l = unsnapped * t->inv_double_area;
   /* Depth is linear in window space; OpenGL clamps it to the depth range. */
   const float z = clamp(l.x * t->z[0] + l.y * t->z[1] + l.z * t->z[2], 0.0f, 1.0f);
   /* Perspective-correct: interpolate value / w and 1 / w linearly, then divide. */
@@ -159,6 +171,11 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_SHADING
   __local float4 quad_exchange[CLR_TILE_PIXELS];
   __local uint group_coverage[CLR_RASTER_TRIANGLE_BATCH / 32]; /* bit i: triangle i covers a pixel */
+  /* Bit i: triangle i covers this pixel. In local memory, not in a private array: PoCL 3.1 keeps one
+   * copy for the whole group of a private array that lives across the fragment program's barriers,
+   * and with the coverage bits (or the edge values) in one, every pixel of a tile was shaded as live,
+   * or as a helper, as one of them was. Private arrays here live between two barriers only. */
+  __local uint pixel_coverage[CLR_TILE_PIXELS][CLR_RASTER_TRIANGLE_BATCH / 32];
 #endif
   const uint tile = get_group_id(1) * tiles_x + get_group_id(0);
   const uint begin = tile_ranges[2 * tile];
@@ -202,21 +219,23 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_SHADING
     if (lane < CLR_RASTER_TRIANGLE_BATCH / 32) group_coverage[lane] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    uint covered[CLR_RASTER_TRIANGLE_BATCH / 32] = {0};
-    long e[3];
-    for (uint i = 0; i < n; ++i) {
-      if (writable && triangle_covers(&batch[i], x, y, e)) covered[i / 32] |= 1u << (i % 32);
-    }
     for (uint w = 0; w < CLR_RASTER_TRIANGLE_BATCH / 32; ++w) {
-      if (covered[w]) atomic_or(&group_coverage[w], covered[w]);
+      uint covered = 0;
+      long e[3];
+      for (uint i = w * 32; i < min(n, w * 32 + 32); ++i) {
+        if (writable && triangle_covers(&batch[i], x, y, e)) covered |= 1u << (i % 32);
+      }
+      pixel_coverage[lane][w] = covered;
+      if (covered) atomic_or(&group_coverage[w], covered);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint i = 0; i < n; ++i) {
       /* The same decision in every work-item, so all of them reach the program's barriers. */
       if (!(group_coverage[i / 32] & (1u << (i % 32)))) continue;
+      long e[3];
       edge_values(&batch[i], x, y, e);
-      process_fragment(&batch[i], x, y, e, (covered[i / 32] >> (i % 32)) & 1u, &f, tile_color, &tile_depth[lane],
-                       &tile_stencil[lane], u);
+      process_fragment(&batch[i], x, y, e, (pixel_coverage[lane][i / 32] >> (i % 32)) & 1u, &f, tile_color,
+                       &tile_depth[lane], &tile_stencil[lane], u);
     }
 #else
     barrier(CLK_LOCAL_MEM_FENCE);

@@ -30,11 +30,26 @@ inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1,
     t.edge_b[k] = dx;
     t.edge_c[k] = (long)dy * a.x - (long)dx * a.y;
     if (edge_includes_centres(a, b)) t.flags |= 1u << k;
+    /* The unsnapped edge, a + ra to b + rb, has the function cross(d + dr, X - a - ra) with
+     * d = b - a and dr = rb - ra: E_k plus cross(dr, X - a) - cross(d + dr, ra), a plane. */
+    const float2 ra = v[(k + 1) % 3]->residual;
+    const float2 dr = v[(k + 2) % 3]->residual - ra;
+    const float2 d_true = convert_float2(b - a) + dr;
+    t.edge_correction[k][0] = -dr.y;
+    t.edge_correction[k][1] = dr.x;
+    t.edge_correction[k][2] = dr.y * (float)a.x - dr.x * (float)a.y - (d_true.x * ra.y - d_true.y * ra.x);
     t.z[k] = v[k]->z;
     t.inv_w[k] = v[k]->inv_w;
     for (int j = 0; j < CLR_NUM_VARYINGS; ++j) t.varyings[k][j] = v[k]->varyings[j];
   }
-  t.inv_double_area = 1.0f / (float)area;
+  /* Twice the unsnapped area: cross(e1 + r1 - r0, e2 + r2 - r0) with e1, e2 the snapped sides from
+   * vertex 0; the snapped part is exact in `area`, the rest small. */
+  const float2 e1 = convert_float2(v[1]->fixed - v[0]->fixed);
+  const float2 e2 = convert_float2(v[2]->fixed - v[0]->fixed);
+  const float2 r1 = v[1]->residual - v[0]->residual;
+  const float2 r2 = v[2]->residual - v[0]->residual;
+  const float area_correction = (e1.x * r2.y - e1.y * r2.x) + (r1.x * e2.y - r1.y * e2.x) + (r1.x * r2.y - r1.y * r2.x);
+  t.inv_double_area = 1.0f / ((float)area + area_correction);
   t.primitive_id = primitive_id;
 
   const int2 lo = extent->pixel_min;

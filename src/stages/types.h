@@ -246,8 +246,12 @@ typedef struct {
   clr_int edge_b[3];
   clr_float z[3];                          /* window depth of each vertex */
   clr_float inv_w[3];                      /* 1 / clip w of each vertex */
+  /* Interpolation weights come from the unsnapped triangle, as in llvmpipe: E_k(X, Y) plus
+   * edge_correction[k][0] * X + [k][1] * Y + [k][2] is edge k's function for the vertices where
+   * they were before snapping (setup.cl), and 2 * its area the sum of the three. */
+  clr_float edge_correction[3][3];
   clr_float varyings[3][CLR_NUM_VARYINGS];
-  clr_float inv_double_area;               /* 1 / (2 * area), area in fixed-point units squared */
+  clr_float inv_double_area;               /* 1 / (2 * unsnapped area), in fixed-point units squared */
   clr_uint primitive_id;
   clr_uint flags;                          /* bits 0-2: edge includes centres on it; bit 3: front */
   clr_uint pixel_min;                      /* writable pixels in the bounding box: x | y << 16 ... */
