@@ -205,7 +205,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 TEST_F(TextureTest, UnormStoresClampAndRoundToNearestAndReadBackOver255) {
-  // 0.5 * 255 + 0.5 = 128; 0.25 * 255 + 0.5 = 64.25 -> 64; 0.998 * 255 + 0.5 = 254.99 -> 254; NaN -> 0.
+  // 0.5 * 255 = 127.5 -> 128 (the even neighbour); 0.25 * 255 = 63.75 -> 64; 0.998 * 255 = 254.49 -> 254; NaN -> 0.
   const std::vector<Texel> values = {{1, 0.5f, 0.25f, 0}, {-1, 2, kNaN, kInf}, {0.998f, 0.002f, 1.0f / 255, -kInf}};
   const StoreLoad r = store_load(Format::RGBA8, values);
   EXPECT_EQ(std::vector<std::uint8_t>(r.bytes.begin(), r.bytes.begin() + 12),
@@ -214,6 +214,13 @@ TEST_F(TextureTest, UnormStoresClampAndRoundToNearestAndReadBackOver255) {
   EXPECT_EQ(r.loaded[0], (Texel{1, 128 / 255.0f, 64 / 255.0f, 0}));
   EXPECT_EQ(r.loaded[1], (Texel{0, 1, 0, 1}));
   EXPECT_EQ(r.loaded[2], (Texel{254 / 255.0f, 1 / 255.0f, 1 / 255.0f, 0}));
+}
+
+// Ties go to the even byte, as llvmpipe rounds them (OpenGL leaves the direction open): in float,
+// 0.3f * 255 is exactly 76.5, and (i + 0.5f) / 255 * 255 is exactly i + 0.5 for these i.
+TEST_F(TextureTest, UnormStoresRoundTiesToEvenAsLlvmpipe) {
+  const StoreLoad r = store_load(Format::RGBA8, {{0.3f, 1.5f / 255, 2.5f / 255, 0.5f / 255}, {200.5f / 255, 0, 0, 0}});
+  EXPECT_EQ(std::vector<std::uint8_t>(r.bytes.begin(), r.bytes.begin() + 5), (std::vector<std::uint8_t>{76, 2, 2, 0, 200}));
 }
 
 TEST_F(TextureTest, FormatsWithFewerChannelsWriteOnlyTheirBytesAndReadZeroAndOpaqueAlpha) {

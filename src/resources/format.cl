@@ -2,7 +2,8 @@
  * table in types.h. `index` counts texels from `data`.
  *
  * Conversions are OpenGL 4.6's:
- *  - unorm8 reads as c / 255 and is written as floor(clamp(x, 0, 1) * 255 + 0.5), NaN as 0 (2.3.5);
+ *  - unorm8 reads as c / 255 and is written as clamp(x, 0, 1) * 255 rounded to nearest, ties to even
+ *    (llvmpipe's choice where 2.3.5.2 leaves it open), NaN as 0;
  *  - sRGB colour channels decode with c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055)^2.4 (8.24) and
  *    encode with l < 0.0031308 ? 12.92 l : 1.055 l^(1/2.4) - 0.055 (17.3), then as unorm8; alpha is linear;
  *  - half floats round to nearest even; 32-bit floats and integers are stored as they are;
@@ -95,8 +96,10 @@ __constant float clr_srgb_to_linear_table[256] = {
     0.973445296f, 0.982250571f, 0.991102099f, 1.0f,
 };
 
-/* OpenGL's float to unorm8 conversion. fmax turns NaN into 0. */
-uint clr_float_to_unorm8(float x) { return convert_uint(fmin(fmax(x, 0.0f), 1.0f) * 255.0f + 0.5f); }
+/* OpenGL's float to unorm8 conversion: the nearest byte to clamp(x, 0, 1) * 255, ties to even as
+ * llvmpipe rounds them (for half of the 256 values (i + 0.5f) / 255 the float product is a tie), in
+ * clears and fragment stores alike. fmax turns NaN into 0. */
+uint clr_float_to_unorm8(float x) { return convert_uint_rte(fmin(fmax(x, 0.0f), 1.0f) * 255.0f); }
 
 /* OpenGL's linear to sRGB encoding, before the unorm8 conversion (which clamps what is below 0 or
  * above 1, and NaN). */
