@@ -6,7 +6,9 @@
  *    (llvmpipe's choice where 2.3.5.2 leaves it open), NaN as 0;
  *  - sRGB colour channels decode with c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055)^2.4 (8.24) and
  *    encode with l < 0.0031308 ? 12.92 l : 1.055 l^(1/2.4) - 0.055 (17.3), then as unorm8; alpha is linear;
- *  - half floats round to nearest even; 32-bit floats and integers are stored as they are;
+ *  - half floats round toward zero, as llvmpipe converts them (OpenGL leaves the rounding open), so
+ *    finite values beyond half's range store its largest, 65504; 32-bit floats and integers are
+ *    stored as they are;
  *  - channels a format lacks read as 0, and alpha as 1: R is (r, 0, 0, 1), RG is (r, g, 0, 1), and a
  *    depth format is (depth, 0, 0, 1).
  * What OpenGL leaves undefined, a float load or store of an integer format or an integer one of a
@@ -114,7 +116,7 @@ uint clr_encode_channel(int type, int channel, float value) {
     case CLR_CHANNEL_SRGB8: return clr_float_to_unorm8(channel < 3 ? clr_linear_to_srgb(value) : value);
     case CLR_CHANNEL_FLOAT16: {
       ushort bits; /* half is a storage type only (no cl_khr_fp16): convert through its bits */
-      vstore_half_rte(value, 0, (half*)&bits);
+      vstore_half_rtz(value, 0, (half*)&bits);
       return bits;
     }
     default: return as_uint(value);
