@@ -1,0 +1,742 @@
+// Fixed-function state and vertex input of the programmable pipeline against OpenGL: each test
+// draws with a program in OpenCL C on clraster and the same program in GLSL on the oracle (Mesa's
+// llvmpipe), from the same data with the same DrawState, and compares every attachment.
+#include "support/dual_render.hpp"
+
+#include "io/camera.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cstddef>
+
+#include <map>
+#include <memory>
+#include <sstream>
+#include <tuple>
+
+namespace clraster::test {
+namespace {
+
+using Rgba = std::array<float, 4>;
+
+// ---- Meshes ---------------------------------------------------------------------------------------------
+
+using Vec3 = std::array<float, 3>;
+
+struct Vertex {
+  Vec3 position;
+  Rgba color;
+};
+
+// Indexed triangles with the attributes "position" (float3) and "color" (float4), interleaved.
+class ColoredMesh {
+ public:
+  ColoredMesh(const std::vector<Vertex>& vertices, std::vector<std::uint32_t> indices)
+      : vertices_(vertices), indices_(std::move(indices)) {}
+
+  DualDraw draw(const DualProgram& program, const DrawState& state) const {
+    DualDraw draw{&program};
+    draw.attributes = {{"position", &vertices_, AttributeType::Float3, offsetof(Vertex, position), sizeof(Vertex)},
+                       {"color", &vertices_, AttributeType::Float4, offsetof(Vertex, color), sizeof(Vertex)}};
+    draw.indices = indices_;
+    draw.state = state;
+    return draw;
+  }
+
+ private:
+  DualBuffer vertices_;
+  std::vector<std::uint32_t> indices_;
+};
+
+// Collects quads, each two triangles that are counter-clockwise when the corners (0, 0), (1, 0),
+// (0, 1), (1, 1) of the quad are.
+struct QuadList {
+  std::vector<Vertex> vertices;
+  std::vector<std::uint32_t> indices;
+
+  QuadList& add(const std::array<Vec3, 4>& corners, const std::array<Rgba, 4>& colors) {
+    const auto first = static_cast<std::uint32_t>(vertices.size());
+    for (int k = 0; k < 4; ++k) vertices.push_back({corners[k], colors[k]});
+    for (const std::uint32_t corner : {0, 1, 2, 2, 1, 3}) indices.push_back(first + corner);
+    return *this;
+  }
+  QuadList& add(const std::array<Vec3, 4>& corners, const Rgba& color) {
+    return add(corners, {color, color, color, color});
+  }
+  ColoredMesh mesh() const { return {vertices, indices}; }
+};
+
+// A window-aligned rectangle (pixels, y up) of one colour at one depth. Pixel centres are never on
+// its edges, so coverage cannot differ between renderers.
+struct Quad {
+  Rect area;
+  Rgba color;
+  float z = 0.0f;          // normalized device depth
+  bool clockwise = false;  // its triangles' winding in the window
+};
+
+// Quads in normalized device coordinates, for identity matrices and a width x height viewport.
+ColoredMesh window_quads(const std::vector<Quad>& quads, int width, int height) {
+  QuadList list;
+  for (const Quad& q : quads) {
+    const float x0 = 2.0f * q.area.x / width - 1, x1 = 2.0f * (q.area.x + q.area.width) / width - 1;
+    const float y0 = 2.0f * q.area.y / height - 1, y1 = 2.0f * (q.area.y + q.area.height) / height - 1;
+    const Vec3 right{x1, y0, q.z}, up{x0, y1, q.z};
+    list.add({Vec3{x0, y0, q.z}, q.clockwise ? up : right, q.clockwise ? right : up, {x1, y1, q.z}}, q.color);
+  }
+  return list.mesh();
+}
+
+// Passes each quad's colour through, flat, to `outputs` outputs (colour attachments 0 to outputs - 1).
+DualProgram& flat_color_program(int outputs = 1) {
+  static std::map<int, std::unique_ptr<DualProgram>> programs;
+  std::unique_ptr<DualProgram>& program = programs[outputs];
+  if (!program) {
+    std::string opencl = R"(
+clr_attribute(float3, position)
+clr_attribute(float4, color)
+clr_varying_flat(float4, color)
+)";
+    std::string glsl = "#version 450 core\nflat in vec4 v_color;\n";
+    std::string opencl_writes, glsl_writes;
+    for (int k = 0; k < outputs; ++k) {
+      const std::string name = "out" + std::to_string(k);
+      opencl += "clr_output(float4, " + name + ")\n";
+      opencl_writes += "  f->out." + name + " = f->in.color;\n";
+      glsl += "layout(location = " + std::to_string(k) + ") out vec4 " + name + ";\n";
+      glsl_writes += "  " + name + " = v_color;\n";
+    }
+    opencl += R"(
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.0f);
+  v->out.color = v->in.color;
+}
+void fragment(clr_fragment* f) {
+)" + opencl_writes + "}\n";
+    glsl += "void main() {\n" + glsl_writes + "}\n";
+    program = std::make_unique<DualProgram>(opencl, R"(#version 450 core
+in vec3 position;
+in vec4 color;
+flat out vec4 v_color;
+void main() {
+  gl_Position = vec4(position, 1.0);
+  v_color = color;
+}
+)",
+                                            glsl, "flat_color_" + std::to_string(outputs));
+  }
+  return *program;
+}
+
+// ---- Names for parameterized tests --------------------------------------------------------------------
+
+std::string name_of(Format format) { return format_info(format).name; }
+std::string name_of(BlendEquation equation) {
+  const char* const names[] = {"Add", "Subtract", "ReverseSubtract", "Min", "Max"};
+  return names[static_cast<int>(equation)];
+}
+std::string name_of(BlendFactor factor) {
+  const char* const names[] = {"Zero",          "One",           "SrcColor",      "OneMinusSrcColor",
+                               "DstColor",      "OneMinusDstColor", "SrcAlpha",   "OneMinusSrcAlpha",
+                               "DstAlpha",      "OneMinusDstAlpha", "ConstantColor", "OneMinusConstantColor",
+                               "ConstantAlpha", "OneMinusConstantAlpha", "SrcAlphaSaturate"};
+  return names[static_cast<int>(factor)];
+}
+std::string text_of(const Rgba& c) {
+  std::ostringstream text;
+  text << "(" << c[0] << ", " << c[1] << ", " << c[2] << ", " << c[3] << ")";
+  return text.str();
+}
+
+// ---- Blending -----------------------------------------------------------------------------------------
+
+constexpr BlendEquation kEquations[] = {BlendEquation::Add, BlendEquation::Subtract, BlendEquation::ReverseSubtract,
+                                        BlendEquation::Min, BlendEquation::Max};
+constexpr int kFactorCount = 15;
+
+BlendFactor factor(int index) { return static_cast<BlendFactor>(index); }
+
+// Colours that tell every factor apart: opaque, transparent and partial alphas, black and white,
+// and one colour each outside [0, 1], which normalized attachments clamp and float ones keep.
+const std::vector<Rgba> kSources = {{1, 1, 1, 1},          {0, 0, 0, 0},          {0.2f, 0.5f, 0.8f, 0.6f},
+                                    {0.9f, 0.1f, 0.4f, 0.3f}, {0.35f, 0.65f, 0.05f, 1}, {0.5f, 0.25f, 0.75f, 0.5f},
+                                    {0.7f, 0.3f, 0.95f, 0.15f}, {1.5f, -0.25f, 0.6f, 2}};
+const std::vector<Rgba> kDestinations = {{0, 0, 0, 0},           {1, 1, 1, 1},          {0.6f, 0.4f, 0.2f, 0.8f},
+                                         {0.1f, 0.9f, 0.5f, 0.25f}, {0.45f, 0.55f, 0.65f, 0.5f},
+                                         {0.8f, 0.05f, 0.3f, 0.95f}, {0.25f, 0.75f, 0.15f, 0.1f},
+                                         {-0.5f, 2.5f, 0.33f, 1.25f}};
+constexpr Rgba kBlendColor = {0.3f, 0.6f, 0.9f, 0.4f};
+
+// Blend cases, one per colour attachment of a draw, so that one draw blends kTargets states. Case k
+// goes to attachment k % kTargets, block k / kTargets (blocks side by side, kColumns to a row); a
+// block is kBlock x kBlock one-pixel cells with source colour i over destination colour j at cell
+// (i, j), so every source meets every destination.
+class BlendGrid {
+ public:
+  static constexpr int kTargets = kMaxColorAttachments;
+  static constexpr int kBlock = 8;  // kSources.size() and kDestinations.size()
+  static constexpr int kColumns = 8;
+
+  explicit BlendGrid(int cases)
+      : blocks_((cases + kTargets - 1) / kTargets),
+        height_((blocks_ + kColumns - 1) / kColumns * kBlock),
+        destinations_(window_quads(cells(kDestinations, false), width(), height_)),
+        sources_(window_quads(cells(kSources, true), width(), height_)) {}
+
+  int width() const { return kColumns * kBlock; }
+  int height() const { return height_; }
+  int blocks() const { return blocks_; }
+
+  // Every block's destination colours into every attachment, unblended.
+  void draw_destinations(DualFramebuffer& target) const {
+    DrawState state;
+    state.depth_test = false;
+    target.draw(destinations_.draw(flat_color_program(kTargets), state));
+  }
+
+  // The source colours of `block` into every attachment, with state.blend (its depth test off).
+  void draw_sources(DualFramebuffer& target, int block, DrawState state) const {
+    state.depth_test = false;
+    DualDraw draw = sources_.draw(flat_color_program(kTargets), state);
+    draw.first = static_cast<std::uint32_t>(block * kBlock * kBlock * 6);
+    draw.count = kBlock * kBlock * 6;
+    target.draw(draw);
+  }
+
+  // Names attachment `target`'s pixels by case (from `case_names`), source and destination colour.
+  PixelNamer namer(int target, std::vector<std::string> case_names) const {
+    return [target, case_names = std::move(case_names)](int x, int y) {
+      const std::size_t k = static_cast<std::size_t>((y / kBlock * kColumns + x / kBlock) * kTargets + target);
+      return (k < case_names.size() ? case_names[k] : "no case, blending off") + ", source " +
+             text_of(kSources[static_cast<std::size_t>(x % kBlock)]) + " over destination " +
+             text_of(kDestinations[static_cast<std::size_t>(y % kBlock)]);
+    };
+  }
+
+ private:
+  // A cell per block and colour pair, coloured by the source (by_source) or by the destination.
+  std::vector<Quad> cells(const std::vector<Rgba>& colors, bool by_source) const {
+    std::vector<Quad> quads;
+    for (int block = 0; block < blocks_; ++block) {
+      for (int j = 0; j < kBlock; ++j) {
+        for (int i = 0; i < kBlock; ++i) {
+          quads.push_back({{block % kColumns * kBlock + i, block / kColumns * kBlock + j, 1, 1},
+                           colors[static_cast<std::size_t>(by_source ? i : j)]});
+        }
+      }
+    }
+    return quads;
+  }
+
+  int blocks_, height_;
+  ColoredMesh destinations_, sources_;
+};
+
+struct BlendCase {
+  std::string name;
+  BlendState state;
+};
+
+// Each case blends every source over every destination (BlendGrid) in attachments of `format`,
+// with kBlendColor; clraster must match GL exactly.
+void expect_blends_match(Format format, const std::vector<BlendCase>& cases) {
+  BlendGrid grid(static_cast<int>(cases.size()));
+  DualFramebuffer target(grid.width(), grid.height(), std::vector<Format>(BlendGrid::kTargets, format), false);
+  target.clear({0, 0, 0, 0});
+  grid.draw_destinations(target);
+  std::vector<std::string> names;
+  for (int block = 0; block < grid.blocks(); ++block) {
+    DrawState state;
+    state.blend_color = kBlendColor;
+    for (int k = 0; k < BlendGrid::kTargets && names.size() < cases.size(); ++k) {
+      state.blend[static_cast<std::size_t>(k)] = cases[names.size()].state;
+      names.push_back(cases[names.size()].name);
+    }
+    grid.draw_sources(target, block, state);
+  }
+  for (int k = 0; k < BlendGrid::kTargets; ++k) EXPECT_TRUE(target.color_matches(k, {}, grid.namer(k, names)));
+  // Even Min and Max of one channel (which ignore the factors) leave more than 12 values.
+  EXPECT_GT(distinct_texels(target.color(0).gl.read(), format_info(format).bytes_per_texel), 12u);
+}
+
+std::string name_of(const BlendState& b) {
+  return "rgb " + name_of(b.rgb_equation) + " " + name_of(b.src_rgb) + ", " + name_of(b.dst_rgb) + "; alpha " +
+         name_of(b.alpha_equation) + " " + name_of(b.src_alpha) + ", " + name_of(b.dst_alpha);
+}
+
+BlendCase blend_case(BlendEquation rgb_equation, BlendFactor src_rgb, BlendFactor dst_rgb, BlendEquation alpha_equation,
+                     BlendFactor src_alpha, BlendFactor dst_alpha) {
+  const BlendState state{true, rgb_equation, alpha_equation, src_rgb, dst_rgb, src_alpha, dst_alpha};
+  return {name_of(state), state};
+}
+
+using BlendTableCase = std::tuple<Format, BlendEquation>;
+
+class BlendTableTest : public ::testing::TestWithParam<BlendTableCase> {};
+
+// One case per (a, b) of the 15 x 15 factor pairs: rgb blends with source factor a and
+// destination factor b, alpha with b and a, so every factor meets every other on both sides and
+// in both channels. Alpha uses the equation after the rgb one, so each channel has its own.
+TEST_P(BlendTableTest, EveryFactorPairMatchesGl) {
+  const auto [format, equation] = GetParam();
+  const BlendEquation alpha_equation = kEquations[(static_cast<int>(equation) + 1) % 5];
+  std::vector<BlendCase> cases;
+  for (int a = 0; a < kFactorCount; ++a) {
+    for (int b = 0; b < kFactorCount; ++b) {
+      cases.push_back(blend_case(equation, factor(a), factor(b), alpha_equation, factor(b), factor(a)));
+    }
+  }
+  expect_blends_match(format, cases);
+}
+
+// llvmpipe computes float blends whose rgb and alpha states each have one factor for both sides as
+// (s op d) * factor, which rounds differently; Min and Max count as having the factors One, One,
+// whatever they were given. Here rgb has equal factors and alpha unequal ones, under every alpha
+// equation.
+TEST_P(BlendTableTest, EqualRgbFactorsUnderEveryAlphaEquationMatchGl) {
+  const auto [format, equation] = GetParam();
+  std::vector<BlendCase> cases;
+  for (int a = 0; a < kFactorCount; ++a) {
+    for (const BlendEquation alpha_equation : kEquations) {
+      cases.push_back(blend_case(equation, factor(a), factor(a), alpha_equation, BlendFactor::SrcAlpha,
+                                 BlendFactor::OneMinusDstColor));
+      cases.push_back(blend_case(alpha_equation, BlendFactor::DstColor, BlendFactor::SrcAlpha, equation, factor(a),
+                                 factor(a)));
+    }
+  }
+  expect_blends_match(format, cases);
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, BlendTableTest,
+                         ::testing::Combine(::testing::Values(Format::RGBA8, Format::RGBA16F, Format::RGBA32F, Format::R32F, Format::RG32F),
+                                            ::testing::ValuesIn(kEquations)),
+                         [](const auto& info) {
+                           return name_of(std::get<0>(info.param)) + name_of(std::get<1>(info.param));
+                         });
+
+DualProgram make_mvp_color_program(bool flat) {
+  const std::string qualifier = flat ? "flat " : "";
+  return DualProgram(std::string(flat ? "clr_varying_flat" : "clr_varying") + R"((float4, color)
+clr_attribute(float3, position)
+clr_attribute(float4, color)
+clr_uniform(float16, mvp)
+clr_output(float4, out_color)
+void vertex(clr_vertex* v) {
+  v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f));
+  v->out.color = v->in.color;
+}
+void fragment(clr_fragment* f) { f->out.out_color = f->in.color; }
+)",
+                     R"(#version 450 core
+in vec3 position;
+in vec4 color;
+uniform mat4 mvp;
+)" + qualifier + R"(out vec4 v_color;
+void main() {
+  gl_Position = mvp * vec4(position, 1.0);
+  v_color = color;
+}
+)",
+                     "#version 450 core\n" + qualifier + R"(in vec4 v_color;
+out vec4 out_color;
+void main() { out_color = v_color; }
+)",
+                     flat ? "mvp_flat_color" : "mvp_smooth_color");
+}
+
+// ---- Perspective ------------------------------------------------------------------------------------------
+
+// projection * view for a camera at `eye` looking at the origin (y up, 50 degrees vertical field of
+// view, near plane `near`, far plane 20).
+Mat4 perspective_mvp(const Vec3& eye, float aspect, float near = 0.5f) {
+  const glm::mat4 projection = glm::perspective(glm::radians(50.0f), aspect, near, 20.0f);
+  const glm::mat4 view = glm::lookAt(glm::vec3(eye[0], eye[1], eye[2]), glm::vec3(0), glm::vec3(0, 1, 0));
+  return io::to_mat4(projection * view);
+}
+
+// Transforms "position" by the uniform mvp; the colour is interpolated perspective-correctly, or
+// taken flat from the provoking vertex when `flat`.
+DualProgram& mvp_color_program(bool flat) {
+  static DualProgram smooth_program = make_mvp_color_program(false), flat_program = make_mvp_color_program(true);
+  return flat ? flat_program : smooth_program;
+}
+
+// ---- Depth ------------------------------------------------------------------------------------------------
+
+constexpr CompareFunc kCompareFuncs[] = {CompareFunc::Never,   CompareFunc::Less,     CompareFunc::Equal,
+                                         CompareFunc::LessEqual, CompareFunc::Greater, CompareFunc::NotEqual,
+                                         CompareFunc::GreaterEqual, CompareFunc::Always};
+std::string name_of(CompareFunc func) {
+  const char* const names[] = {"Never", "Less", "Equal", "LessEqual", "Greater", "NotEqual", "GreaterEqual", "Always"};
+  return names[static_cast<int>(func)];
+}
+
+// clraster interpolates depth over the triangle as snapped to 1/256 pixel, llvmpipe over the
+// unsnapped window positions: with vertices 100 pixels away, depths measured up to 2.5e-6 apart
+// (llvmpipe's within a float step of the exact plane). Interpolated depths are compared within this,
+// and the scenes keep every depth test they decide far from such differences.
+constexpr float kInterpolatedDepthTolerance = 1e-5f;
+
+// Window quads (identity matrices) whose fragments may set their own depth and discard themselves:
+//   depth_plane = (a, b, c, on): when on is not 0, frag_depth = a * x + b * y + c + z at the pixel
+//                 centre (x, y), z the quad's normalized device depth (exact for the values the
+//                 tests use: multiples of 1/128);
+//   discard_modulus > 0: fragments with (x + 2 y) % discard_modulus == 0 (x, y the pixel) discard.
+DualProgram& fragment_depth_program() {
+  static DualProgram program(R"(
+clr_attribute(float3, position)
+clr_attribute(float4, color)
+clr_varying_flat(float4, color)
+clr_varying_flat(float, depth_offset)
+clr_uniform(float4, depth_plane)
+clr_uniform(int, discard_modulus)
+clr_output(float4, out_color)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.0f);
+  v->out.color = v->in.color;
+  v->out.depth_offset = v->in.position.z;
+}
+void fragment(clr_fragment* f) {
+  const int modulus = f->uniforms->discard_modulus;
+  const int2 pixel = convert_int2(f->frag_coord.xy);
+  if (modulus > 0 && (pixel.x + 2 * pixel.y) % modulus == 0) {
+    clr_discard(f);
+    return;
+  }
+  const float4 plane = f->uniforms->depth_plane;
+  if (plane.w != 0.0f) {
+    f->frag_depth = plane.x * f->frag_coord.x + plane.y * f->frag_coord.y + plane.z + f->in.depth_offset;
+  }
+  f->out.out_color = f->in.color;
+}
+)",
+                             R"(#version 450 core
+in vec3 position;
+in vec4 color;
+flat out vec4 v_color;
+flat out float v_depth_offset;
+void main() {
+  gl_Position = vec4(position, 1.0);
+  v_color = color;
+  v_depth_offset = position.z;
+}
+)",
+                             R"(#version 450 core
+flat in vec4 v_color;
+flat in float v_depth_offset;
+uniform vec4 depth_plane;
+uniform int discard_modulus;
+out vec4 out_color;
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  if (discard_modulus > 0 && (pixel.x + 2 * pixel.y) % discard_modulus == 0) discard;
+  gl_FragDepth = depth_plane.w != 0.0 ? depth_plane.x * gl_FragCoord.x + depth_plane.y * gl_FragCoord.y +
+                                            depth_plane.z + v_depth_offset
+                                      : gl_FragCoord.z;
+  out_color = v_color;
+}
+)",
+                             "fragment_depth");
+  return program;
+}
+
+using DepthCase = std::tuple<CompareFunc, bool>;  // function, depth write
+
+class DepthFunctionTest : public ::testing::TestWithParam<DepthCase> {
+ protected:
+  DrawState tested() const {
+    DrawState state;
+    std::tie(state.depth_func, state.depth_write) = GetParam();
+    return state;
+  }
+};
+
+// In perspective: a ground plane drawn with LESS; then, in one draw with the function under test, a
+// quad hovering above the ground (in front of it), one sunk below it (behind) and the ground again,
+// in another colour: it meets its own depths (exact ties in both renderers) and, where the quads
+// wrote depth, theirs (far from ties).
+TEST_P(DepthFunctionTest, SurfacesInPerspectiveMatchGl) {
+  constexpr int kSize = 64;
+  DualFramebuffer target(kSize, kSize, {Format::RGBA8});
+  target.clear({0, 0, 0, 1}, 1.0f);
+  const std::array<Vec3, 4> ground{Vec3{-2, 0, 2}, {2, 0, 2}, {-2, 0, -2}, {2, 0, -2}};
+  const ColoredMesh first = QuadList().add(ground, Rgba{0.8f, 0.2f, 0.1f, 1}).mesh();
+  const ColoredMesh second = QuadList()
+                                 .add({Vec3{-1.5f, 0.6f, 1}, {-0.2f, 0.6f, 1}, {-1.5f, 0.6f, -1}, {-0.2f, 0.6f, -1}},
+                                      Rgba{0.1f, 0.9f, 0.3f, 1})
+                                 .add({Vec3{0.2f, -0.6f, 1}, {1.5f, -0.6f, 1}, {0.2f, -0.6f, -1}, {1.5f, -0.6f, -1}},
+                                      Rgba{0.2f, 0.4f, 1, 1})
+                                 .add(ground, Rgba{1, 1, 0.5f, 1})
+                                 .mesh();
+  DualProgram& program = mvp_color_program(true);
+  program.set("mvp", perspective_mvp({1.5f, 2.0f, 3.0f}, 1.0f));
+  target.draw(first.draw(program, {}));
+  target.draw(second.draw(program, tested()));
+  EXPECT_TRUE(target.color_matches(0));
+  EXPECT_TRUE(target.depth_matches(kInterpolatedDepthTolerance));
+}
+
+// Depths set by the program (frag_depth, as gl_FragDepth), exact in both renderers: x / 64 first
+// (with ALWAYS); then, in one draw with the function under test, y / 64 (ties on the diagonal) and
+// over it y / 64 + 0.25, which the pipeline clamps to [0, 1] (ties with x / 64 where it is not
+// covered by a depth the first quad wrote).
+TEST_P(DepthFunctionTest, ProgramDepthsMatchGlExactly) {
+  constexpr int kSize = 64;
+  DualFramebuffer target(kSize, kSize, {Format::RGBA8});
+  target.clear({0, 0, 0, 1}, 1.0f);
+  const Rect window{0, 0, kSize, kSize};
+  const ColoredMesh first = window_quads({{window, {0.8f, 0.2f, 0.1f, 1}}}, kSize, kSize);
+  const ColoredMesh second =
+      window_quads({{window, {0.1f, 0.9f, 0.3f, 1}}, {window, {0.2f, 0.4f, 1, 1}, 0.25f}}, kSize, kSize);
+  DualProgram& program = fragment_depth_program();
+  program.set("discard_modulus", 0);
+  DrawState always;
+  always.depth_func = CompareFunc::Always;
+  program.set("depth_plane", Rgba{1.0f / kSize, 0, 0, 1});
+  target.draw(first.draw(program, always));
+  program.set("depth_plane", Rgba{0, 1.0f / kSize, 0, 1});
+  target.draw(second.draw(program, tested()));
+  EXPECT_TRUE(target.matches());
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, DepthFunctionTest,
+                         ::testing::Combine(::testing::ValuesIn(kCompareFuncs), ::testing::Bool()),
+                         [](const auto& info) {
+                           return name_of(std::get<0>(info.param)) + (std::get<1>(info.param) ? "Write" : "NoWrite");
+                         });
+
+// Discarded fragments write nothing (their stencil and depth tests never run); the others write
+// the depth their program sets, then pass their stencil operation on.
+TEST(StateConformance, DiscardedFragmentsWriteNoColourDepthOrStencil) {
+  constexpr int kSize = 64;
+  DualFramebuffer target(kSize, kSize, {Format::RGBA8});
+  target.clear({0.1f, 0.2f, 0.3f, 1}, 1.0f, 3);
+  const ColoredMesh first = window_quads({{{0, 0, kSize, kSize}, {0.8f, 0.2f, 0.1f, 1}}}, kSize, kSize);
+  const ColoredMesh second = window_quads({{{8, 8, 48, 40}, {0.1f, 0.9f, 0.3f, 0.5f}, -0.5f}}, kSize, kSize);
+  DualProgram& program = fragment_depth_program();
+  DrawState state;
+  state.stencil_test = true;
+  state.stencil_front = state.stencil_back = {CompareFunc::Always, 9, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep,
+                                              StencilOp::Replace};
+  program.set("discard_modulus", 3).set("depth_plane", Rgba{0, 0, 0, 0});
+  target.draw(first.draw(program, state));
+  state.depth_func = CompareFunc::Always;
+  state.stencil_front.depth_pass = state.stencil_back.depth_pass = StencilOp::IncrementWrap;
+  program.set("discard_modulus", 5).set("depth_plane", Rgba{1.0f / kSize, 0, 0.125f, 1});
+  target.draw(second.draw(program, state));
+  EXPECT_TRUE(target.matches());
+  EXPECT_EQ(distinct_texels(target.depth_stencil()->gl.read_stencil()), 4u);  // 3, 4, 9 and 10
+}
+
+// With the depth test off, nothing is tested and no depth is written, whatever depth_write says.
+TEST(StateConformance, DisabledDepthTestNeitherTestsNorWritesDepth) {
+  constexpr int kSize = 32;
+  DualFramebuffer target(kSize, kSize, {Format::RGBA8});
+  target.clear({0, 0, 0, 1}, 0.5f);
+  const ColoredMesh behind = window_quads({{{4, 4, 24, 24}, {0.8f, 0.2f, 0.1f, 1}, 0.5f}}, kSize, kSize);
+  DrawState state;
+  state.depth_test = false;
+  target.draw(behind.draw(flat_color_program(), state));
+  EXPECT_TRUE(target.matches());
+  EXPECT_EQ(distinct_texels(target.color(0).gl.read(), 4), 2u);
+}
+
+// ---- Stencil ----------------------------------------------------------------------------------------------
+
+constexpr StencilOp kStencilOps[] = {StencilOp::Keep,      StencilOp::Zero,          StencilOp::Replace,
+                                     StencilOp::Increment, StencilOp::IncrementWrap, StencilOp::Decrement,
+                                     StencilOp::DecrementWrap, StencilOp::Invert};
+std::string name_of(StencilOp op) {
+  const char* const names[] = {"Keep", "Zero", "Replace", "Increment", "IncrementWrap", "Decrement", "DecrementWrap",
+                               "Invert"};
+  return names[static_cast<int>(op)];
+}
+
+// A stencil state for both faces.
+DrawState stencil_state(const StencilFace& face) {
+  DrawState state;
+  state.stencil_test = true;
+  state.stencil_front = state.stencil_back = face;
+  return state;
+}
+
+// A framebuffer holding every stencil value in each of its `copies` side by side: a grid of
+// kCells x kCells cells of kCell x kCell pixels, cell c (row-major from the bottom left) holding
+// (167 c + 13) mod 256. Every other cell holds depth 0.25 (the rest 1), so that a draw at depth 0.5
+// with LESS fails its depth test there. Colour stays the clear colour.
+class StencilPattern {
+ public:
+  static constexpr int kCell = 2, kCells = 16, kSide = kCell * kCells;
+
+  explicit StencilPattern(int copies) : target_(copies * kSide, kSide, {Format::RGBA8}), copies_(copies) {
+    target_.clear({0, 0, 0, 1}, 1.0f, 0);
+    DrawState no_color;
+    no_color.blend[0].write_mask = {false, false, false, false};
+    // Bit b of every cell by a draw that writes only bit b, replacing with all ones where it is set.
+    for (int bit = 0; bit < 8; ++bit) {
+      const ColoredMesh cells = window_quads(cells_where([bit](int c) { return (value(c) >> bit) & 1; }, 0.0f),
+                                             target_.width(), kSide);
+      DrawState state = no_color;
+      state.depth_test = false;
+      state.stencil_test = true;
+      state.stencil_front = state.stencil_back = {CompareFunc::Always, 0xff, 0xff, static_cast<std::uint8_t>(1 << bit),
+                                                  StencilOp::Keep, StencilOp::Keep, StencilOp::Replace};
+      target_.draw(cells.draw(flat_color_program(), state));
+    }
+    const ColoredMesh near_cells =
+        window_quads(cells_where([](int c) { return (c + c / kCells) % 2 == 1; }, -0.5f), target_.width(), kSide);
+    DrawState state = no_color;
+    state.depth_func = CompareFunc::Always;
+    target_.draw(near_cells.draw(flat_color_program(), state));
+  }
+
+  static std::uint8_t value(int cell) { return static_cast<std::uint8_t>((167 * cell + 13) % 256); }
+
+  DualFramebuffer& target() { return target_; }
+
+  // Copy k as a window rectangle.
+  static Rect copy(int k) { return {k * kSide, 0, kSide, kSide}; }
+
+  // Names a pixel by its cell's initial stencil value and depth.
+  static std::string where(int x, int y) {
+    const int c = y / kCell * kCells + x % kSide / kCell;
+    return "stencil was " + std::to_string(value(c)) + ", depth " + ((c + c / kCells) % 2 ? "0.25" : "1");
+  }
+
+ private:
+  template <typename Predicate>
+  std::vector<Quad> cells_where(Predicate predicate, float z) const {
+    std::vector<Quad> quads;
+    for (int k = 0; k < copies_; ++k) {
+      for (int c = 0; c < kCells * kCells; ++c) {
+        if (predicate(c)) quads.push_back({{k * kSide + c % kCells * kCell, c / kCells * kCell, kCell, kCell}, {}, z});
+      }
+    }
+    return quads;
+  }
+
+  DualFramebuffer target_;
+  int copies_;
+};
+
+class StencilFunctionTest : public ::testing::TestWithParam<CompareFunc> {};
+
+// The function under test compares the reference with every stored value, through two read masks;
+// passing fragments increment (with wrap-around) and draw their colour, failing ones invert.
+TEST_P(StencilFunctionTest, EveryStoredValueMatchesGl) {
+  StencilPattern pattern(2);
+  DualFramebuffer& target = pattern.target();
+  const std::uint8_t references[] = {0x5a, 0x37}, read_masks[] = {0xff, 0x3c};
+  const Rgba colors[] = {{0.9f, 0.5f, 0.1f, 1}, {0.2f, 0.6f, 1, 1}};
+  for (int k = 0; k < 2; ++k) {
+    const ColoredMesh quad = window_quads({{StencilPattern::copy(k), colors[k]}}, target.width(), target.height());
+    DrawState state = stencil_state(
+        {GetParam(), references[k], read_masks[k], 0xff, StencilOp::Invert, StencilOp::Invert, StencilOp::IncrementWrap});
+    state.depth_test = false;
+    target.draw(quad.draw(flat_color_program(), state));
+  }
+  EXPECT_TRUE(target.matches({}, StencilPattern::where));
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, StencilFunctionTest, ::testing::ValuesIn(kCompareFuncs),
+                         [](const auto& info) { return name_of(info.param); });
+
+class StencilOpTest : public ::testing::TestWithParam<int> {};
+
+// Operation k of kStencilOps on stencil failure, k + 1 on depth failure and k + 2 on depth pass,
+// so that across the parameters every operation meets every outcome, on every stored value (LESS
+// with reference 0xa5 fails on half of them; every other cell fails the depth test); all eight
+// bits written in the left copy, 0x3c only in the right one.
+TEST_P(StencilOpTest, EveryOutcomeOnEveryStoredValueMatchesGl) {
+  const int k = GetParam();
+  StencilPattern pattern(2);
+  DualFramebuffer& target = pattern.target();
+  const std::uint8_t write_masks[] = {0xff, 0x3c};
+  for (int copy = 0; copy < 2; ++copy) {
+    const ColoredMesh quad =
+        window_quads({{StencilPattern::copy(copy), {0.9f, 0.5f, 0.1f, 1}}}, target.width(), target.height());
+    const DrawState state = stencil_state({CompareFunc::Less, 0xa5, 0xff, write_masks[copy], kStencilOps[k],
+                                           kStencilOps[(k + 1) % 8], kStencilOps[(k + 2) % 8]});
+    target.draw(quad.draw(flat_color_program(), state));
+  }
+  EXPECT_TRUE(target.matches({}, StencilPattern::where));
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, StencilOpTest, ::testing::Range(0, 8), [](const auto& info) {
+  return name_of(kStencilOps[info.param]) + "Then" + name_of(kStencilOps[(info.param + 1) % 8]) + "Then" +
+         name_of(kStencilOps[(info.param + 2) % 8]);
+});
+
+std::string name_of(CullMode cull) {
+  const char* const names[] = {"CullNone", "CullBack", "CullFront"};
+  return names[static_cast<int>(cull)];
+}
+std::string name_of(FrontFace front) { return front == FrontFace::CounterClockwise ? "FrontCcw" : "FrontCw"; }
+
+using FacingCase = std::tuple<CullMode, FrontFace>;
+
+class StencilFacingTest : public ::testing::TestWithParam<FacingCase> {};
+
+// Quads of both windings in a checkerboard, culled by the mode under test or not: the front and
+// the back stencil state differ in every field.
+TEST_P(StencilFacingTest, FrontAndBackStatesApplyByFacing) {
+  StencilPattern pattern(1);
+  DualFramebuffer& target = pattern.target();
+  std::vector<Quad> quads;
+  for (int y = 0; y < StencilPattern::kSide; y += 4) {
+    for (int x = 0; x < StencilPattern::kSide; x += 4) {
+      const bool clockwise = (x + y) / 4 % 2 == 1;
+      quads.push_back({{x, y, 4, 4}, clockwise ? Rgba{0.2f, 0.6f, 1, 1} : Rgba{0.9f, 0.5f, 0.1f, 1}, 0, clockwise});
+    }
+  }
+  const ColoredMesh mesh = window_quads(quads, target.width(), target.height());
+  DrawState state;
+  std::tie(state.cull, state.front_face) = GetParam();
+  state.stencil_test = true;
+  state.stencil_front = {CompareFunc::Greater, 0x80, 0xff, 0xff, StencilOp::Keep, StencilOp::Zero, StencilOp::Replace};
+  state.stencil_back = {CompareFunc::LessEqual, 0x40, 0x7f, 0xf0, StencilOp::Invert, StencilOp::IncrementWrap,
+                        StencilOp::DecrementWrap};
+  target.draw(mesh.draw(flat_color_program(), state));
+  EXPECT_TRUE(target.matches({}, StencilPattern::where));
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, StencilFacingTest,
+                         ::testing::Combine(::testing::Values(CullMode::None, CullMode::Back, CullMode::Front),
+                                            ::testing::Values(FrontFace::CounterClockwise, FrontFace::Clockwise)),
+                         [](const auto& info) {
+                           return name_of(std::get<0>(info.param)) + name_of(std::get<1>(info.param));
+                         });
+
+// The classic use: a surface in perspective marks the stencil without drawing colour, then a
+// full-window quad draws only where it is marked, and another one only where it is not.
+TEST(StateConformance, StencilMarksThenMasksLaterDraws) {
+  constexpr int kSize = 64;
+  DualFramebuffer target(kSize, kSize, {Format::RGBA8});
+  target.clear({0, 0, 0, 1}, 1.0f, 0);
+  const ColoredMesh ground =
+      QuadList().add({Vec3{-2, 0, 2}, {2, 0, 2}, {-2, 0, -2}, {2, 0, -2}}, Rgba{1, 1, 1, 1}).mesh();
+  DualProgram& program = mvp_color_program(true);
+  program.set("mvp", perspective_mvp({1.0f, 1.5f, 4.0f}, 1.0f));
+  DrawState mark = stencil_state({CompareFunc::Always, 1, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep, StencilOp::Replace});
+  mark.blend[0].write_mask = {false, false, false, false};
+  mark.depth_write = false;
+  target.draw(ground.draw(program, mark));
+
+  const ColoredMesh inside = window_quads({{{0, 0, kSize, kSize}, {0.9f, 0.5f, 0.1f, 1}}}, kSize, kSize);
+  const ColoredMesh outside = window_quads({{{0, 0, kSize, kSize}, {0.2f, 0.6f, 1, 1}}}, kSize, kSize);
+  DrawState masked = stencil_state({CompareFunc::Equal, 1, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep, StencilOp::Keep});
+  masked.depth_test = false;
+  target.draw(inside.draw(flat_color_program(), masked));
+  masked.stencil_front.func = masked.stencil_back.func = CompareFunc::NotEqual;
+  target.draw(outside.draw(flat_color_program(), masked));
+  EXPECT_TRUE(target.matches());
+  const std::vector<std::uint8_t> stencil = target.depth_stencil()->gl.read_stencil();
+  const auto marked = std::count(stencil.begin(), stencil.end(), 1);
+  EXPECT_GT(marked, kSize * kSize / 8);
+  EXPECT_LT(marked, kSize * kSize * 7 / 8);
+}
+
+// @@REST@@
+}  // namespace
+}  // namespace clraster::test
