@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cstddef>
-
 #include <map>
 #include <memory>
 #include <sstream>
@@ -42,6 +41,13 @@ class ColoredMesh {
     draw.indices = indices_;
     draw.state = state;
     return draw;
+  }
+
+  // The same without the colours, for programs that only read positions.
+  DualDraw draw_positions(const DualProgram& program, const DrawState& state) const {
+    DualDraw positions = draw(program, state);
+    positions.attributes.pop_back();
+    return positions;
   }
 
  private:
@@ -239,8 +245,8 @@ struct BlendCase {
 };
 
 // Each case blends every source over every destination (BlendGrid) in attachments of `format`,
-// with kBlendColor; clraster must match GL exactly.
-void expect_blends_match(Format format, const std::vector<BlendCase>& cases) {
+// with `blend_color`; clraster must match GL exactly.
+void expect_blends_match(Format format, const std::vector<BlendCase>& cases, const Rgba& blend_color = kBlendColor) {
   BlendGrid grid(static_cast<int>(cases.size()));
   DualFramebuffer target(grid.width(), grid.height(), std::vector<Format>(BlendGrid::kTargets, format), false);
   target.clear({0, 0, 0, 0});
@@ -248,7 +254,7 @@ void expect_blends_match(Format format, const std::vector<BlendCase>& cases) {
   std::vector<std::string> names;
   for (int block = 0; block < grid.blocks(); ++block) {
     DrawState state;
-    state.blend_color = kBlendColor;
+    state.blend_color = blend_color;
     for (int k = 0; k < BlendGrid::kTargets && names.size() < cases.size(); ++k) {
       state.blend[static_cast<std::size_t>(k)] = cases[names.size()].state;
       names.push_back(cases[names.size()].name);
@@ -314,6 +320,50 @@ INSTANTIATE_TEST_SUITE_P(StateConformance, BlendTableTest,
                          [](const auto& info) {
                            return name_of(std::get<0>(info.param)) + name_of(std::get<1>(info.param));
                          });
+
+class BlendFormatTest : public ::testing::TestWithParam<Format> {};
+
+// The constant factors with a blend colour outside [0, 1], which normalized attachments clamp and
+// float ones keep, on both sides and in both channels, under every equation that uses factors.
+TEST_P(BlendFormatTest, ConstantFactorsWithABlendColorOutOfRangeMatchGl) {
+  const BlendFactor constants[] = {BlendFactor::ConstantColor, BlendFactor::OneMinusConstantColor,
+                                   BlendFactor::ConstantAlpha, BlendFactor::OneMinusConstantAlpha};
+  std::vector<BlendCase> cases;
+  for (const BlendEquation equation : {BlendEquation::Add, BlendEquation::Subtract, BlendEquation::ReverseSubtract}) {
+    for (const BlendFactor constant : constants) {
+      cases.push_back(blend_case(equation, constant, BlendFactor::OneMinusSrcAlpha, equation, BlendFactor::SrcAlpha,
+                                 constant));
+      cases.push_back(blend_case(equation, BlendFactor::DstColor, constant, equation, constant, constant));
+    }
+  }
+  expect_blends_match(GetParam(), cases, {1.5f, -0.5f, 0.25f, 2.0f});
+}
+
+// Each of the 16 colour write masks, unblended and over a blend.
+TEST_P(BlendFormatTest, EveryWriteMaskMatchesGl) {
+  std::vector<BlendCase> cases;
+  for (int mask = 0; mask < 16; ++mask) {
+    const std::array<bool, 4> channels{(mask & 1) != 0, (mask & 2) != 0, (mask & 4) != 0, (mask & 8) != 0};
+    BlendState unblended;
+    unblended.write_mask = channels;
+    BlendState blended{true,
+                       BlendEquation::Add,
+                       BlendEquation::Add,
+                       BlendFactor::SrcAlpha,
+                       BlendFactor::OneMinusSrcAlpha,
+                       BlendFactor::One,
+                       BlendFactor::OneMinusSrcAlpha,
+                       channels};
+    const std::string mask_name = " with write mask " + std::to_string(mask);
+    cases.push_back({"no blending" + mask_name, unblended});
+    cases.push_back({name_of(blended) + mask_name, blended});
+  }
+  expect_blends_match(GetParam(), cases);
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, BlendFormatTest,
+                         ::testing::Values(Format::RGBA8, Format::RGBA16F, Format::RGBA32F),
+                         [](const auto& info) { return name_of(info.param); });
 
 DualProgram make_mvp_color_program(bool flat) {
   const std::string qualifier = flat ? "flat " : "";
@@ -736,6 +786,204 @@ TEST(StateConformance, StencilMarksThenMasksLaterDraws) {
   EXPECT_GT(marked, kSize * kSize / 8);
   EXPECT_LT(marked, kSize * kSize * 7 / 8);
 }
+
+// ---- Multiple render targets --------------------------------------------------------------------------
+
+// The formats of kMrtProgram's outputs, in order.
+const std::vector<Format> kMrtFormats = {Format::RGBA8, Format::R32F, Format::RGBA16F, Format::RGBA32UI, Format::R32I,
+                                         Format::RG8};
+
+// One output per format of kMrtFormats, each a different function of the quad's flat colour and
+// the pixel, exact in float (power-of-two scales, sums of dyadic values) so both renderers agree to
+// the bit; integer outputs go negative and use all 32 bits.
+DualProgram& mrt_program() {
+  static DualProgram program(R"(
+clr_attribute(float3, position)
+clr_attribute(float4, color)
+clr_varying_flat(float4, color)
+clr_output(float4, rgba8)
+clr_output(float4, r32f)
+clr_output(float4, rgba16f)
+clr_output(uint4, rgba32ui)
+clr_output(int4, r32i)
+clr_output(float4, rg8)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.0f);
+  v->out.color = v->in.color;
+}
+void fragment(clr_fragment* f) {
+  const float4 c = f->in.color;
+  const int2 p = convert_int2(f->frag_coord.xy);
+  f->out.rgba8 = c;
+  f->out.r32f = (float4)(f->frag_coord.x * 0.25f + f->frag_coord.y, c.x, c.y, c.z);
+  f->out.rgba16f = c * 4.0f - 1.5f;
+  f->out.rgba32ui = (uint4)((uint)p.x, (uint)p.y, as_uint(c.x), 0xffffffffu - (uint)p.x);
+  f->out.r32i = (int4)(p.x - 3 * p.y, -1, 7, 8);
+  f->out.rg8 = c.zwxy;
+}
+)",
+                             R"(#version 450 core
+in vec3 position;
+in vec4 color;
+flat out vec4 v_color;
+void main() {
+  gl_Position = vec4(position, 1.0);
+  v_color = color;
+}
+)",
+                             R"(#version 450 core
+flat in vec4 v_color;
+layout(location = 0) out vec4 rgba8;
+layout(location = 1) out vec4 r32f;
+layout(location = 2) out vec4 rgba16f;
+layout(location = 3) out uvec4 rgba32ui;
+layout(location = 4) out ivec4 r32i;
+layout(location = 5) out vec4 rg8;
+void main() {
+  vec4 c = v_color;
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  rgba8 = c;
+  r32f = vec4(gl_FragCoord.x * 0.25 + gl_FragCoord.y, c.x, c.y, c.z);
+  rgba16f = c * 4.0 - 1.5;
+  rgba32ui = uvec4(uint(p.x), uint(p.y), floatBitsToUint(c.x), 0xffffffffu - uint(p.x));
+  r32i = ivec4(p.x - 3 * p.y, -1, 7, 8);
+  rg8 = c.zwxy;
+}
+)",
+                             "mrt");
+  return program;
+}
+
+class MrtTest : public ::testing::TestWithParam<int> {};  // how many of kMrtFormats are attached
+
+// Two overlapping layers of quads; the second blends differently into each attachment: over, additive,
+// MAX, a blend on an integer attachment (which OpenGL ignores), a write mask on another and REVERSE_SUBTRACT
+// under a write mask. Outputs beyond the attachments are ignored.
+TEST_P(MrtTest, EveryAttachmentMatchesGl) {
+  constexpr int kSize = 32;
+  const std::vector<Format> formats(kMrtFormats.begin(), kMrtFormats.begin() + GetParam());
+  DualFramebuffer target(kSize, kSize, formats, false);
+  target.clear({0.25f, 0.5f, 0.75f, 1});
+  const ColoredMesh under = window_quads({{{0, 0, 20, 32}, {0.9f, 0.3f, 0.6f, 0.8f}}, {{20, 0, 12, 32}, {0.1f, 0.7f, 0.2f, 0.4f}}},
+                                         kSize, kSize);
+  const ColoredMesh over = window_quads({{{6, 6, 20, 20}, {0.5f, 0.25f, 1, 0.5f}}, {{14, 18, 16, 12}, {0.75f, 0.125f, 0.375f, 0.25f}}},
+                                        kSize, kSize);
+  DrawState layer;
+  layer.depth_test = false;
+  target.draw(under.draw(mrt_program(), layer));
+  layer.blend[0] = {true, BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha, BlendFactor::OneMinusSrcAlpha,
+                    BlendFactor::One, BlendFactor::OneMinusSrcAlpha};
+  layer.blend[1] = kAdditiveBlend;
+  layer.blend[2] = {true, BlendEquation::Max, BlendEquation::Min};
+  layer.blend[3] = kAdditiveBlend;
+  layer.blend[4].write_mask = {false, true, true, true};
+  layer.blend[5] = {true,
+                    BlendEquation::ReverseSubtract,
+                    BlendEquation::Add,
+                    BlendFactor::One,
+                    BlendFactor::DstColor,
+                    BlendFactor::One,
+                    BlendFactor::Zero,
+                    {true, false, true, true}};
+  target.draw(over.draw(mrt_program(), layer));
+  EXPECT_TRUE(target.matches());
+  for (int k = 0; k < GetParam(); ++k) {
+    EXPECT_GT(distinct_texels(target.color(k).gl.read(), format_info(formats[k]).bytes_per_texel), 3u) << "attachment " << k;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, MrtTest, ::testing::Values(2, 4, 6),
+                         [](const auto& info) { return std::to_string(info.param) + "Attachments"; });
+
+// ---- Render to texture -----------------------------------------------------------------------------------
+
+// Reads what an earlier pass rendered: even rows fetch the colour texture mirrored left to right
+// (clr_texel_fetch, texelFetch), odd rows sample its middle magnified twice at level 0 with the
+// draw's sampler (clr_sample_lod, textureLod; pixel centres map to texel quarters, far from the
+// nearest-filter boundaries); output 1 fetches the depth texture.
+DualProgram& texture_reading_program() {
+  static DualProgram program(R"(
+clr_attribute(float3, position)
+clr_texture(color_texture)
+clr_texture(depth_texture)
+clr_output(float4, color)
+clr_output(float4, depth)
+void vertex(clr_vertex* v) { v->position = (float4)(v->in.position, 1.0f); }
+void fragment(clr_fragment* f) {
+  const int2 p = convert_int2(f->frag_coord.xy);
+  const int2 size = clr_texture_size(f->textures.color_texture, 0);
+  if (p.y % 2 == 0) {
+    f->out.color = clr_texel_fetch(f->textures.color_texture, (int2)(size.x - 1 - p.x, p.y), 0);
+  } else {
+    const float2 uv = f->frag_coord.xy * 0.5f / convert_float2(size) + 0.25f;
+    f->out.color = clr_sample_lod(f->textures.color_texture, uv, 0.0f);
+  }
+  f->out.depth = clr_texel_fetch(f->textures.depth_texture, p, 0);
+}
+)",
+                             R"(#version 450 core
+in vec3 position;
+void main() { gl_Position = vec4(position, 1.0); }
+)",
+                             R"(#version 450 core
+uniform sampler2D color_texture;
+uniform sampler2D depth_texture;
+layout(location = 0) out vec4 color;
+layout(location = 1) out vec4 depth;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  ivec2 size = textureSize(color_texture, 0);
+  if (p.y % 2 == 0) {
+    color = texelFetch(color_texture, ivec2(size.x - 1 - p.x, p.y), 0);
+  } else {
+    vec2 uv = gl_FragCoord.xy * 0.5 / vec2(size) + 0.25;
+    color = textureLod(color_texture, uv, 0.0);
+  }
+  depth = texelFetch(depth_texture, p, 0);
+}
+)",
+                             "texture_reading");
+  return program;
+}
+
+class RenderToTextureTest : public ::testing::TestWithParam<Format> {};
+
+// Pass 1 renders surfaces in perspective into a colour texture of the format under test (colours
+// beyond 1 for float formats) and a depth texture; pass 2 reads both (texture_reading_program) into
+// a framebuffer of the same colour format and an R32F one.
+TEST_P(RenderToTextureTest, SecondPassReadsWhatTheFirstRendered) {
+  constexpr int kSize = 64;
+  DualTexture color(kSize, kSize, GetParam()), depth(kSize, kSize, Format::Depth32FStencil8);
+  DualFramebuffer first_pass({&color}, &depth);
+  first_pass.clear({0.1f, 0.2f, 0.3f, 1}, 1.0f);
+  const ColoredMesh scene = QuadList()
+                                .add({Vec3{-2, 0, 2}, {2, 0, 2}, {-2, 0, -2}, {2, 0, -2}}, Rgba{0.8f, 0.2f, 0.1f, 1})
+                                .add({Vec3{-1.5f, -0.5f, 0}, {1, -0.5f, 0}, {-1.5f, 1.2f, 0}, {1, 1.2f, 0}},
+                                     std::array<Rgba, 4>{Rgba{0.1f, 0.9f, 0.3f, 1}, {1.5f, 0.4f, 1, 0.5f},
+                                                         {0.2f, 0.4f, 1, 0.25f}, {1, 1, 0.5f, 1}})
+                                .mesh();
+  DualProgram& scene_program = mvp_color_program(true);
+  scene_program.set("mvp", perspective_mvp({1.5f, 2.0f, 3.0f}, 1.0f));
+  first_pass.draw(scene.draw(scene_program, {}));
+  EXPECT_TRUE(first_pass.color_matches(0));
+  EXPECT_TRUE(first_pass.depth_matches(kInterpolatedDepthTolerance));
+
+  DualFramebuffer second_pass(kSize, kSize, {GetParam(), Format::R32F}, false);
+  const Sampler nearest{Filter::Nearest, Filter::Nearest, MipFilter::None, Wrap::ClampToEdge, Wrap::ClampToEdge};
+  DualProgram& reader = texture_reading_program();
+  reader.set_texture("color_texture", color, nearest).set_texture("depth_texture", depth, nearest);
+  DrawState state;
+  state.depth_test = false;
+  const ColoredMesh window = window_quads({{{0, 0, kSize, kSize}, {}}}, kSize, kSize);
+  second_pass.draw(window.draw_positions(reader, state));
+  EXPECT_TRUE(second_pass.color_matches(0));
+  EXPECT_TRUE(second_pass.color_matches(1, {0, kInterpolatedDepthTolerance}));
+  // The clear colour, the ground and the upright quad's two flat-shaded triangles.
+  EXPECT_EQ(distinct_texels(second_pass.color(0).gl.read(), format_info(GetParam()).bytes_per_texel), 4u);
+}
+
+INSTANTIATE_TEST_SUITE_P(StateConformance, RenderToTextureTest, ::testing::Values(Format::RGBA8, Format::RGBA16F),
+                         [](const auto& info) { return name_of(info.param); });
 
 // @@REST@@
 }  // namespace
