@@ -65,6 +65,8 @@ class DualProgram {
  public:
   DualProgram(const std::string& opencl, const std::string& vertex_glsl, const std::string& fragment_glsl,
               const std::string& name);
+  DualProgram(const DualProgram&) = delete;  // bindings refer to the program
+  DualProgram& operator=(const DualProgram&) = delete;
 
   DualProgram& set(const std::string& name, float value);
   DualProgram& set(const std::string& name, std::int32_t value);
