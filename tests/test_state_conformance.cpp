@@ -21,7 +21,7 @@ namespace {
 
 using Rgba = std::array<float, 4>;
 
-// ---- Meshes ---------------------------------------------------------------------------------------------
+// ---- Meshes -----------------------------------------------------------------------------------------------
 
 using Vec3 = std::array<float, 3>;
 
@@ -137,7 +137,51 @@ void main() {
   return *program;
 }
 
-// ---- Names for parameterized tests --------------------------------------------------------------------
+// ---- Perspective ------------------------------------------------------------------------------------------
+
+// projection * view for a camera at `eye` looking at the origin (y up, 50 degrees vertical field of
+// view, near plane `near`, far plane 20).
+Mat4 perspective_mvp(const Vec3& eye, float aspect, float near = 0.5f) {
+  const glm::mat4 projection = glm::perspective(glm::radians(50.0f), aspect, near, 20.0f);
+  const glm::mat4 view = glm::lookAt(glm::vec3(eye[0], eye[1], eye[2]), glm::vec3(0), glm::vec3(0, 1, 0));
+  return io::to_mat4(projection * view);
+}
+
+// Transforms "position" by the uniform mvp and takes each triangle's colour flat from its provoking
+// vertex, so that colours are exact whatever the interpolation.
+DualProgram& mvp_flat_color_program() {
+  static DualProgram program(R"(
+clr_attribute(float3, position)
+clr_attribute(float4, color)
+clr_varying_flat(float4, color)
+clr_uniform(float16, mvp)
+clr_output(float4, out_color)
+void vertex(clr_vertex* v) {
+  v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f));
+  v->out.color = v->in.color;
+}
+void fragment(clr_fragment* f) { f->out.out_color = f->in.color; }
+)",
+                             R"(#version 450 core
+in vec3 position;
+in vec4 color;
+uniform mat4 mvp;
+flat out vec4 v_color;
+void main() {
+  gl_Position = mvp * vec4(position, 1.0);
+  v_color = color;
+}
+)",
+                             R"(#version 450 core
+flat in vec4 v_color;
+out vec4 out_color;
+void main() { out_color = v_color; }
+)",
+                             "mvp_flat_color");
+  return program;
+}
+
+// ---- Names for parameterized tests and failure messages ---------------------------------------------------
 
 std::string name_of(Format format) { return format_info(format).name; }
 std::string name_of(BlendEquation equation) {
@@ -151,13 +195,31 @@ std::string name_of(BlendFactor factor) {
                                "ConstantAlpha", "OneMinusConstantAlpha", "SrcAlphaSaturate"};
   return names[static_cast<int>(factor)];
 }
+std::string name_of(CompareFunc func) {
+  const char* const names[] = {"Never", "Less", "Equal", "LessEqual", "Greater", "NotEqual", "GreaterEqual", "Always"};
+  return names[static_cast<int>(func)];
+}
+std::string name_of(StencilOp op) {
+  const char* const names[] = {"Keep", "Zero", "Replace", "Increment", "IncrementWrap", "Decrement", "DecrementWrap",
+                               "Invert"};
+  return names[static_cast<int>(op)];
+}
+std::string name_of(CullMode cull) {
+  const char* const names[] = {"CullNone", "CullBack", "CullFront"};
+  return names[static_cast<int>(cull)];
+}
+std::string name_of(FrontFace front) { return front == FrontFace::CounterClockwise ? "FrontCcw" : "FrontCw"; }
+std::string name_of(Topology topology) {
+  const char* const names[] = {"List", "Strip", "Fan"};
+  return names[static_cast<int>(topology)];
+}
 std::string text_of(const Rgba& c) {
   std::ostringstream text;
   text << "(" << c[0] << ", " << c[1] << ", " << c[2] << ", " << c[3] << ")";
   return text.str();
 }
 
-// ---- Blending -----------------------------------------------------------------------------------------
+// ---- Blending ---------------------------------------------------------------------------------------------
 
 constexpr BlendEquation kEquations[] = {BlendEquation::Add, BlendEquation::Subtract, BlendEquation::ReverseSubtract,
                                         BlendEquation::Min, BlendEquation::Max};
@@ -317,7 +379,8 @@ TEST_P(BlendTableTest, EqualRgbFactorsUnderEveryAlphaEquationMatchGl) {
 }
 
 INSTANTIATE_TEST_SUITE_P(StateConformance, BlendTableTest,
-                         ::testing::Combine(::testing::Values(Format::RGBA8, Format::RGBA16F, Format::RGBA32F, Format::R32F, Format::RG32F),
+                         ::testing::Combine(::testing::Values(Format::RGBA8, Format::RGBA16F, Format::RGBA32F,
+                                                              Format::R32F, Format::RG32F),
                                             ::testing::ValuesIn(kEquations)),
                          [](const auto& info) {
                            return name_of(std::get<0>(info.param)) + name_of(std::get<1>(info.param));
@@ -367,62 +430,11 @@ INSTANTIATE_TEST_SUITE_P(StateConformance, BlendFormatTest,
                          ::testing::Values(Format::RGBA8, Format::RGBA16F, Format::RGBA32F),
                          [](const auto& info) { return name_of(info.param); });
 
-DualProgram make_mvp_color_program(bool flat) {
-  const std::string qualifier = flat ? "flat " : "";
-  return DualProgram(std::string(flat ? "clr_varying_flat" : "clr_varying") + R"((float4, color)
-clr_attribute(float3, position)
-clr_attribute(float4, color)
-clr_uniform(float16, mvp)
-clr_output(float4, out_color)
-void vertex(clr_vertex* v) {
-  v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f));
-  v->out.color = v->in.color;
-}
-void fragment(clr_fragment* f) { f->out.out_color = f->in.color; }
-)",
-                     R"(#version 450 core
-in vec3 position;
-in vec4 color;
-uniform mat4 mvp;
-)" + qualifier + R"(out vec4 v_color;
-void main() {
-  gl_Position = mvp * vec4(position, 1.0);
-  v_color = color;
-}
-)",
-                     "#version 450 core\n" + qualifier + R"(in vec4 v_color;
-out vec4 out_color;
-void main() { out_color = v_color; }
-)",
-                     flat ? "mvp_flat_color" : "mvp_smooth_color");
-}
-
-// ---- Perspective ------------------------------------------------------------------------------------------
-
-// projection * view for a camera at `eye` looking at the origin (y up, 50 degrees vertical field of
-// view, near plane `near`, far plane 20).
-Mat4 perspective_mvp(const Vec3& eye, float aspect, float near = 0.5f) {
-  const glm::mat4 projection = glm::perspective(glm::radians(50.0f), aspect, near, 20.0f);
-  const glm::mat4 view = glm::lookAt(glm::vec3(eye[0], eye[1], eye[2]), glm::vec3(0), glm::vec3(0, 1, 0));
-  return io::to_mat4(projection * view);
-}
-
-// Transforms "position" by the uniform mvp; the colour is interpolated perspective-correctly, or
-// taken flat from the provoking vertex when `flat`.
-DualProgram& mvp_color_program(bool flat) {
-  static DualProgram smooth_program = make_mvp_color_program(false), flat_program = make_mvp_color_program(true);
-  return flat ? flat_program : smooth_program;
-}
-
 // ---- Depth ------------------------------------------------------------------------------------------------
 
 constexpr CompareFunc kCompareFuncs[] = {CompareFunc::Never,   CompareFunc::Less,     CompareFunc::Equal,
                                          CompareFunc::LessEqual, CompareFunc::Greater, CompareFunc::NotEqual,
                                          CompareFunc::GreaterEqual, CompareFunc::Always};
-std::string name_of(CompareFunc func) {
-  const char* const names[] = {"Never", "Less", "Equal", "LessEqual", "Greater", "NotEqual", "GreaterEqual", "Always"};
-  return names[static_cast<int>(func)];
-}
 
 // clraster interpolates depth over the triangle as snapped to 1/256 pixel, llvmpipe over the
 // unsnapped window positions (its depths are within a float step of the exact plane), so the two
@@ -522,7 +534,7 @@ TEST_P(DepthFunctionTest, SurfacesInPerspectiveMatchGl) {
                                       Rgba{0.2f, 0.4f, 1, 1})
                                  .add(ground, Rgba{1, 1, 0.5f, 1})
                                  .mesh();
-  DualProgram& program = mvp_color_program(true);
+  DualProgram& program = mvp_flat_color_program();
   program.set("mvp", perspective_mvp({1.5f, 2.0f, 3.0f}, 1.0f));
   target.draw(first.draw(program, {}));
   target.draw(second.draw(program, tested()));
@@ -532,8 +544,8 @@ TEST_P(DepthFunctionTest, SurfacesInPerspectiveMatchGl) {
 
 // Depths set by the program (frag_depth, as gl_FragDepth), exact in both renderers: x / 64 first
 // (with ALWAYS); then, in one draw with the function under test, y / 64 (ties on the diagonal) and
-// over it y / 64 + 0.25, which the pipeline clamps to [0, 1] (ties with x / 64 where it is not
-// covered by a depth the first quad wrote).
+// over it y / 64 + 0.25, which the pipeline clamps to [0, 1] (and which ties with x / 64 where the
+// draw's first quad wrote no depth).
 TEST_P(DepthFunctionTest, ProgramDepthsMatchGlExactly) {
   constexpr int kSize = 64;
   DualFramebuffer target(kSize, kSize, {Format::RGBA8});
@@ -600,11 +612,6 @@ TEST(StateConformance, DisabledDepthTestNeitherTestsNorWritesDepth) {
 constexpr StencilOp kStencilOps[] = {StencilOp::Keep,      StencilOp::Zero,          StencilOp::Replace,
                                      StencilOp::Increment, StencilOp::IncrementWrap, StencilOp::Decrement,
                                      StencilOp::DecrementWrap, StencilOp::Invert};
-std::string name_of(StencilOp op) {
-  const char* const names[] = {"Keep", "Zero", "Replace", "Increment", "IncrementWrap", "Decrement", "DecrementWrap",
-                               "Invert"};
-  return names[static_cast<int>(op)];
-}
 
 // A stencil state for both faces.
 DrawState stencil_state(const StencilFace& face) {
@@ -684,8 +691,8 @@ TEST_P(StencilFunctionTest, EveryStoredValueMatchesGl) {
   const Rgba colors[] = {{0.9f, 0.5f, 0.1f, 1}, {0.2f, 0.6f, 1, 1}};
   for (int k = 0; k < 2; ++k) {
     const ColoredMesh quad = window_quads({{StencilPattern::copy(k), colors[k]}}, target.width(), target.height());
-    DrawState state = stencil_state(
-        {GetParam(), references[k], read_masks[k], 0xff, StencilOp::Invert, StencilOp::Invert, StencilOp::IncrementWrap});
+    DrawState state = stencil_state({GetParam(), references[k], read_masks[k], 0xff, StencilOp::Invert,
+                                     StencilOp::Invert, StencilOp::IncrementWrap});
     state.depth_test = false;
     target.draw(quad.draw(flat_color_program(), state));
   }
@@ -720,12 +727,6 @@ INSTANTIATE_TEST_SUITE_P(StateConformance, StencilOpTest, ::testing::Range(0, 8)
   return name_of(kStencilOps[info.param]) + "Then" + name_of(kStencilOps[(info.param + 1) % 8]) + "Then" +
          name_of(kStencilOps[(info.param + 2) % 8]);
 });
-
-std::string name_of(CullMode cull) {
-  const char* const names[] = {"CullNone", "CullBack", "CullFront"};
-  return names[static_cast<int>(cull)];
-}
-std::string name_of(FrontFace front) { return front == FrontFace::CounterClockwise ? "FrontCcw" : "FrontCw"; }
 
 using FacingCase = std::tuple<CullMode, FrontFace>;
 
@@ -769,16 +770,18 @@ TEST(StateConformance, StencilMarksThenMasksLaterDraws) {
   target.clear({0, 0, 0, 1}, 1.0f, 0);
   const ColoredMesh ground =
       QuadList().add({Vec3{-2, 0, 2}, {2, 0, 2}, {-2, 0, -2}, {2, 0, -2}}, Rgba{1, 1, 1, 1}).mesh();
-  DualProgram& program = mvp_color_program(true);
+  DualProgram& program = mvp_flat_color_program();
   program.set("mvp", perspective_mvp({1.0f, 1.5f, 4.0f}, 1.0f));
-  DrawState mark = stencil_state({CompareFunc::Always, 1, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep, StencilOp::Replace});
+  DrawState mark =
+      stencil_state({CompareFunc::Always, 1, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep, StencilOp::Replace});
   mark.blend[0].write_mask = {false, false, false, false};
   mark.depth_write = false;
   target.draw(ground.draw(program, mark));
 
   const ColoredMesh inside = window_quads({{{0, 0, kSize, kSize}, {0.9f, 0.5f, 0.1f, 1}}}, kSize, kSize);
   const ColoredMesh outside = window_quads({{{0, 0, kSize, kSize}, {0.2f, 0.6f, 1, 1}}}, kSize, kSize);
-  DrawState masked = stencil_state({CompareFunc::Equal, 1, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep, StencilOp::Keep});
+  DrawState masked =
+      stencil_state({CompareFunc::Equal, 1, 0xff, 0xff, StencilOp::Keep, StencilOp::Keep, StencilOp::Keep});
   masked.depth_test = false;
   target.draw(inside.draw(flat_color_program(), masked));
   masked.stencil_front.func = masked.stencil_back.func = CompareFunc::NotEqual;
@@ -790,7 +793,7 @@ TEST(StateConformance, StencilMarksThenMasksLaterDraws) {
   EXPECT_LT(marked, kSize * kSize * 7 / 8);
 }
 
-// ---- Multiple render targets --------------------------------------------------------------------------
+// ---- Multiple render targets ------------------------------------------------------------------------------
 
 // The formats of kMrtProgram's outputs, in order.
 const std::vector<Format> kMrtFormats = {Format::RGBA8, Format::R32F, Format::RGBA16F, Format::RGBA32UI, Format::R32I,
@@ -867,10 +870,13 @@ TEST_P(MrtTest, EveryAttachmentMatchesGl) {
   const std::vector<Format> formats(kMrtFormats.begin(), kMrtFormats.begin() + GetParam());
   DualFramebuffer target(kSize, kSize, formats, false);
   target.clear({0.25f, 0.5f, 0.75f, 1});
-  const ColoredMesh under = window_quads({{{0, 0, 20, 32}, {0.9f, 0.3f, 0.6f, 0.8f}}, {{20, 0, 12, 32}, {0.1f, 0.7f, 0.2f, 0.4f}}},
-                                         kSize, kSize);
-  const ColoredMesh over = window_quads({{{6, 6, 20, 20}, {0.5f, 0.25f, 1, 0.5f}}, {{14, 18, 16, 12}, {0.75f, 0.125f, 0.375f, 0.25f}}},
-                                        kSize, kSize);
+  // Integer clear values that the masked channels keep.
+  if (GetParam() > 3) target.clear_color_uint(3, {7, 0xfffffff0u, 3, 1});
+  if (GetParam() > 4) target.clear_color_int(4, {-5, 0, 0, 0});
+  const ColoredMesh under = window_quads(
+      {{{0, 0, 20, 32}, {0.9f, 0.3f, 0.6f, 0.8f}}, {{20, 0, 12, 32}, {0.1f, 0.7f, 0.2f, 0.4f}}}, kSize, kSize);
+  const ColoredMesh over = window_quads(
+      {{{6, 6, 20, 20}, {0.5f, 0.25f, 1, 0.5f}}, {{14, 18, 16, 12}, {0.75f, 0.125f, 0.375f, 0.25f}}}, kSize, kSize);
   DrawState layer;
   layer.depth_test = false;
   target.draw(under.draw(mrt_program(), layer));
@@ -891,14 +897,15 @@ TEST_P(MrtTest, EveryAttachmentMatchesGl) {
   target.draw(over.draw(mrt_program(), layer));
   EXPECT_TRUE(target.matches());
   for (int k = 0; k < GetParam(); ++k) {
-    EXPECT_GT(distinct_texels(target.color(k).gl.read(), format_info(formats[k]).bytes_per_texel), 3u) << "attachment " << k;
+    EXPECT_GT(distinct_texels(target.color(k).gl.read(), format_info(formats[k]).bytes_per_texel), 3u)
+        << "attachment " << k;
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(StateConformance, MrtTest, ::testing::Values(2, 4, 6),
                          [](const auto& info) { return std::to_string(info.param) + "Attachments"; });
 
-// ---- Render to texture -----------------------------------------------------------------------------------
+// ---- Render to texture ------------------------------------------------------------------------------------
 
 // Reads what an earlier pass rendered: even rows fetch the colour texture mirrored left to right
 // (clr_texel_fetch, texelFetch), odd rows sample its middle magnified twice at level 0 with the
@@ -965,7 +972,7 @@ TEST_P(RenderToTextureTest, SecondPassReadsWhatTheFirstRendered) {
                                      std::array<Rgba, 4>{Rgba{0.1f, 0.9f, 0.3f, 1}, {1.5f, 0.4f, 1, 0.5f},
                                                          {0.2f, 0.4f, 1, 0.25f}, {1, 1, 0.5f, 1}})
                                 .mesh();
-  DualProgram& scene_program = mvp_color_program(true);
+  DualProgram& scene_program = mvp_flat_color_program();
   scene_program.set("mvp", perspective_mvp({1.5f, 2.0f, 3.0f}, 1.0f));
   first_pass.draw(scene.draw(scene_program, {}));
   EXPECT_TRUE(first_pass.color_matches(0));
@@ -1225,7 +1232,8 @@ DualProgram& interpolation_program() {
     for (int k = 0; k < kSmoothVaryings; ++k) {
       const std::string name = "v" + std::to_string(k);
       declarations += "clr_varying(float4, " + name + ")\n";
-      assignments += "  v->out." + name + " = c * " + std::to_string(k + 1) + ".0f + " + std::to_string(k) + ".0f / 8.0f;\n";
+      assignments +=
+          "  v->out." + name + " = c * " + std::to_string(k + 1) + ".0f + " + std::to_string(k) + ".0f / 8.0f;\n";
       if (k > 0) {
         sum += std::string(k > 1 ? " + " : "") + "f->in." + name;
         glsl_sum += std::string(k > 1 ? " + " : "") + "v_values[" + std::to_string(k) + "]";
@@ -1409,11 +1417,6 @@ void main() {
   return program;
 }
 
-std::string name_of(Topology topology) {
-  const char* const names[] = {"List", "Strip", "Fan"};
-  return names[static_cast<int>(topology)];
-}
-
 using FacingDrawCase = std::tuple<Topology, CullMode, FrontFace>;
 
 class FacingTest : public ::testing::TestWithParam<FacingDrawCase> {};
@@ -1476,7 +1479,7 @@ TEST_P(ViewportTest, PerspectiveSurfacesMatchGl) {
                                                          {0.2f, 0.4f, 1, 0.25f}, {1, 1, 0.5f, 1}})
                                 .mesh();
   const ViewportCase& c = GetParam();
-  DualProgram& program = mvp_color_program(true);
+  DualProgram& program = mvp_flat_color_program();
   const Rect viewport = c.viewport.width ? c.viewport : Rect{0, 0, kWidth, kHeight};
   program.set("mvp", perspective_mvp({1.5f, 2.0f, 3.0f}, static_cast<float>(viewport.width) / viewport.height));
   DrawState state;

@@ -93,7 +93,8 @@ std::string texel_text(const TexelLayout& layout, std::span<const std::byte> tex
   return text.str();
 }
 
-// 8-bit texels (rows from t = 0) as a picture (rows from the top): missing channels 0, alpha opaque.
+// 8-bit texels (rows from t = 0) as a picture (rows from the top): one channel (R8, stencil) as
+// grey, a missing blue 0, a missing alpha opaque.
 Image to_image(std::span<const std::byte> texels, int channels, int width, int height) {
   Image image{width, height, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height * 4)};
   for (int y = 0; y < height; ++y) {
@@ -102,15 +103,15 @@ Image to_image(std::span<const std::byte> texels, int channels, int width, int h
       std::uint8_t* to = &image.rgba[static_cast<std::size_t>(y * width + x) * 4];
       to[3] = 255;
       for (int c = 0; c < channels; ++c) to[c] = std::to_integer<std::uint8_t>(texels[from + c]);
-      if (channels == 1 && to[1] == 0) to[1] = to[2] = to[0];  // grey: stencil or R8
+      if (channels == 1) to[1] = to[2] = to[0];
     }
   }
   return image;
 }
 
 // Saves both renderers' 8-bit texels of `what` as pictures; returns where.
-std::string save_pictures(const std::string& what, std::span<const std::byte> result, std::span<const std::byte> reference,
-                          int channels, int width, int height) {
+std::string save_pictures(const std::string& what, std::span<const std::byte> result,
+                          std::span<const std::byte> reference, int channels, int width, int height) {
   const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string test_name = std::string(test->test_suite_name()) + "." + test->name();
   for (char& c : test_name) {
@@ -191,9 +192,6 @@ std::vector<oracle::GlTexture*> gl_textures(const std::vector<DualTexture*>& tex
 DualTexture::DualTexture(int width, int height, Format format)
     : clraster(shared_context(), width, height, format), gl(width, height, format) {}
 
-DualTexture::DualTexture(int width, int height, Format format, std::span<const std::byte> level0)
-    : clraster(shared_context(), width, height, format, level0, false), gl(width, height, format, level0, false) {}
-
 DualBuffer::DualBuffer(std::vector<std::byte> bytes)
     : host(std::move(bytes)), device(shared_context(), std::span<const std::byte>(host)) {}
 
@@ -213,19 +211,7 @@ DualProgram& DualProgram::set(const std::string& name, std::int32_t value) {
   return *this;
 }
 
-DualProgram& DualProgram::set(const std::string& name, std::uint32_t value) {
-  bindings.set(name, value);
-  gl.set(name, value);
-  return *this;
-}
-
 DualProgram& DualProgram::set(const std::string& name, std::span<const float> values) {
-  bindings.set_bytes(name, std::as_bytes(values));
-  gl.set(name, values);
-  return *this;
-}
-
-DualProgram& DualProgram::set(const std::string& name, std::span<const std::int32_t> values) {
   bindings.set_bytes(name, std::as_bytes(values));
   gl.set(name, values);
   return *this;

@@ -38,10 +38,9 @@ std::vector<std::byte> to_bytes(const std::vector<T>& values) {
   return {bytes.begin(), bytes.end()};
 }
 
-// A texture in both renderers, of the same size and format and with the same level 0.
+// A texture in both renderers, of the same size and format, zero-filled.
 struct DualTexture {
-  DualTexture(int width, int height, Format format);  // zero texels
-  DualTexture(int width, int height, Format format, std::span<const std::byte> level0);
+  DualTexture(int width, int height, Format format);
 
   Texture clraster;
   oracle::GlTexture gl;
@@ -70,9 +69,7 @@ class DualProgram {
 
   DualProgram& set(const std::string& name, float value);
   DualProgram& set(const std::string& name, std::int32_t value);
-  DualProgram& set(const std::string& name, std::uint32_t value);
   DualProgram& set(const std::string& name, std::span<const float> values);
-  DualProgram& set(const std::string& name, std::span<const std::int32_t> values);
   template <std::size_t N>
   DualProgram& set(const std::string& name, const std::array<float, N>& values) {
     return set(name, std::span<const float>(values));
