@@ -54,7 +54,7 @@ __kernel void test_blend(__global const BlendUniforms* states, __global const fl
   const size_t i = get_global_id(0);
   const size_t c = i % combos;
   const BlendUniforms b = states[i / combos];
-  blended[i] = kind == 2 ? clr_blend_unorm8(b, sources[c], destinations[c], constants[c])
+  blended[i] = kind == 2 ? clr_blend_unorm8(b, sources[c], destinations[c], constants[c], 4)
                          : clr_blend(b, sources[c], destinations[c], constants[c], kind == 1, 4);
 }
 
