@@ -54,8 +54,8 @@ __kernel void test_blend(__global const BlendUniforms* states, __global const fl
   const size_t i = get_global_id(0);
   const size_t c = i % combos;
   const BlendUniforms b = states[i / combos];
-  blended[i] = kind == 2 ? clr_blend_unorm8(b, sources[c], destinations[c], constants[c])
-                         : clr_blend(b, sources[c], destinations[c], constants[c], kind == 1);
+  blended[i] = kind == 2 ? clr_blend_unorm8(b, sources[c], destinations[c], constants[c], 4)
+                         : clr_blend(b, sources[c], destinations[c], constants[c], kind == 1, 4);
 }
 
 __kernel void test_write_mask(__global const uint* masks, float4 value, float4 destination, __global float4* out) {

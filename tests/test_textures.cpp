@@ -206,7 +206,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 TEST_F(TextureTest, UnormStoresClampAndRoundToNearestAndReadBackOver255) {
-  // 0.5 * 255 + 0.5 = 128; 0.25 * 255 + 0.5 = 64.25 -> 64; 0.998 * 255 + 0.5 = 254.99 -> 254; NaN -> 0.
+  // 0.5 * 255 = 127.5 -> 128 (the even neighbour); 0.25 * 255 = 63.75 -> 64; 0.998 * 255 = 254.49 -> 254; NaN -> 0.
   const std::vector<Texel> values = {{1, 0.5f, 0.25f, 0}, {-1, 2, kNaN, kInf}, {0.998f, 0.002f, 1.0f / 255, -kInf}};
   const StoreLoad r = store_load(Format::RGBA8, values);
   EXPECT_EQ(std::vector<std::uint8_t>(r.bytes.begin(), r.bytes.begin() + 12),
@@ -215,6 +215,13 @@ TEST_F(TextureTest, UnormStoresClampAndRoundToNearestAndReadBackOver255) {
   EXPECT_EQ(r.loaded[0], (Texel{1, 128 / 255.0f, 64 / 255.0f, 0}));
   EXPECT_EQ(r.loaded[1], (Texel{0, 1, 0, 1}));
   EXPECT_EQ(r.loaded[2], (Texel{254 / 255.0f, 1 / 255.0f, 1 / 255.0f, 0}));
+}
+
+// Ties go to the even byte, as llvmpipe rounds them (OpenGL leaves the direction open): in float,
+// 0.3f * 255 is exactly 76.5, and (i + 0.5f) / 255 * 255 is exactly i + 0.5 for these i.
+TEST_F(TextureTest, UnormStoresRoundTiesToEvenAsLlvmpipe) {
+  const StoreLoad r = store_load(Format::RGBA8, {{0.3f, 1.5f / 255, 2.5f / 255, 0.5f / 255}, {200.5f / 255, 0, 0, 0}});
+  EXPECT_EQ(std::vector<std::uint8_t>(r.bytes.begin(), r.bytes.begin() + 5), (std::vector<std::uint8_t>{76, 2, 2, 0, 200}));
 }
 
 TEST_F(TextureTest, FormatsWithFewerChannelsWriteOnlyTheirBytesAndReadZeroAndOpaqueAlpha) {
@@ -248,22 +255,26 @@ TEST_F(TextureTest, FloatFormatsStoreExactlyAndDepthReadsAsDepthZeroZeroOne) {
   }
 }
 
-TEST_F(TextureTest, HalfFloatsRoundToNearestEven) {
+// llvmpipe converts floats to half rounding toward zero, in clears, fragment stores and blending
+// alike (OpenGL leaves the rounding open): finite values beyond half's range become 65504.
+TEST_F(TextureTest, HalfFloatsRoundTowardZeroAsLlvmpipe) {
   // Half has 10 mantissa bits: its step just above 1 is 2^-10, and 2^-24 is its smallest subnormal.
   const float one_and_half_step = 1 + 0x1p-11f, one_and_three_half_steps = 1 + 3 * 0x1p-11f;
   const std::vector<Texel> values = {
-      {1.0f / 3, one_and_half_step, one_and_three_half_steps, 65519},  // 0x3555, tie to 1, tie to 1 + 2^-9
-      {65520, 0x1p-25f, 3 * 0x1p-25f, -0.0f},                          // tie to inf, tie to 0, tie to 2^-23
-      {1e-10f, -2.5f, 1.0f, kNaN}};
+      {1.0f / 3, one_and_half_step, one_and_three_half_steps, 65519},  // 0x3555, 1, 1 + 2^-10, 65504
+      {65520, 0x1p-25f, 3 * 0x1p-25f, -0.0f},                          // 65504, 0, 2^-24, -0
+      {1e-10f, -2.5f, 1.0f, kNaN},
+      {1e9f, -0.35f, kInf, -kInf}};  // 65504, -1433 * 2^-12 (not -1434 * 2^-12, the nearer)
   const StoreLoad r = store_load(Format::RGBA16F, values);
-  EXPECT_EQ(r.loaded[0], (Texel{0.333251953125f, 1.0f, 1 + 0x1p-9f, 65504}));
-  EXPECT_EQ(r.loaded[1][0], kInf);
+  EXPECT_EQ(r.loaded[0], (Texel{0.333251953125f, 1.0f, 1 + 0x1p-10f, 65504}));
+  EXPECT_EQ(r.loaded[1][0], 65504.0f);
   EXPECT_EQ(r.loaded[1][1], 0.0f);
-  EXPECT_EQ(r.loaded[1][2], 0x1p-23f);
+  EXPECT_EQ(r.loaded[1][2], 0x1p-24f);
   EXPECT_TRUE(std::signbit(r.loaded[1][3]));
   EXPECT_EQ(r.loaded[2][0], 0.0f);
   EXPECT_EQ(r.loaded[2][1], -2.5f);
   EXPECT_TRUE(std::isnan(r.loaded[2][3]));
+  EXPECT_EQ(r.loaded[3], (Texel{65504, -1433 * 0x1p-12f, kInf, -kInf}));
   std::uint16_t one = 0;
   std::memcpy(&one, r.bytes.data() + 8 * 2 + 4, 2);  // texel 2, channel b
   EXPECT_EQ(one, 0x3C00);

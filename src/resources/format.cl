@@ -2,10 +2,13 @@
  * table in types.h. `index` counts texels from `data`.
  *
  * Conversions are OpenGL 4.6's:
- *  - unorm8 reads as c / 255 and is written as floor(clamp(x, 0, 1) * 255 + 0.5), NaN as 0 (2.3.5);
+ *  - unorm8 reads as c / 255 and is written as clamp(x, 0, 1) * 255 rounded to nearest, ties to even
+ *    (llvmpipe's choice where 2.3.5.2 leaves it open), NaN as 0;
  *  - sRGB colour channels decode with c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055)^2.4 (8.24) and
  *    encode with l < 0.0031308 ? 12.92 l : 1.055 l^(1/2.4) - 0.055 (17.3), then as unorm8; alpha is linear;
- *  - half floats round to nearest even; 32-bit floats and integers are stored as they are;
+ *  - half floats round toward zero, as llvmpipe converts them (OpenGL leaves the rounding open), so
+ *    finite values beyond half's range store its largest, 65504; 32-bit floats and integers are
+ *    stored as they are;
  *  - channels a format lacks read as 0, and alpha as 1: R is (r, 0, 0, 1), RG is (r, g, 0, 1), and a
  *    depth format is (depth, 0, 0, 1).
  * What OpenGL leaves undefined, a float load or store of an integer format or an integer one of a
@@ -112,8 +115,10 @@ __constant float clr_srgb_to_linear_table[256] = {
     0.973445296f, 0.982250571f, 0.991102099f, 1.0f,
 };
 
-/* OpenGL's float to unorm8 conversion. fmax turns NaN into 0. */
-uint4 clr_float_to_unorm8(float4 x) { return convert_uint4(fmin(fmax(x, 0.0f), 1.0f) * 255.0f + 0.5f); }
+/* OpenGL's float to unorm8 conversion: the nearest byte to clamp(x, 0, 1) * 255, ties to even as
+ * llvmpipe rounds them (for half of the 256 values (i + 0.5f) / 255 the float product is a tie), in
+ * clears and fragment stores alike. fmax turns NaN into 0. */
+uint4 clr_float_to_unorm8(float4 x) { return convert_uint4_rte(fmin(fmax(x, 0.0f), 1.0f) * 255.0f); }
 
 /* OpenGL's linear to sRGB encoding, before the unorm8 conversion (which clamps what is below 0 or
  * above 1, and NaN). */
@@ -127,7 +132,7 @@ uint4 clr_encode_texel(int type, float4 value) {
     case CLR_CHANNEL_SRGB8: return clr_float_to_unorm8((float4)(clr_linear_to_srgb(value).xyz, value.w));
     case CLR_CHANNEL_FLOAT16: {
       ushort4 bits; /* half is a storage type only (no cl_khr_fp16): convert through its bits */
-      vstore_half4_rte(value, 0, (half*)&bits);
+      vstore_half4_rtz(value, 0, (half*)&bits); /* toward zero, as llvmpipe stores half floats */
       return convert_uint4(bits);
     }
     default: return as_uint4(value);

@@ -76,19 +76,19 @@ inline uint clr_stencil_update(StencilUniforms s, int op, uint stored) {
  *                    (round(ab / 255), except for 24 of the 65536 products, just above a half, which
  *                    it rounds down), and adds or subtracts with saturation. The same steps on 8-bit
  *                    values held in floats are exact (integers below 2^17): RGBA8 and RG8 match
- *                    llvmpipe bit for bit (0 of 55 million channels differ). R8 differs by at most
- *                    1/255 (0.2% of channels) under ADD with complementary factors (SRC_ALPHA and
- *                    ONE_MINUS_SRC_ALPHA, ...), which llvmpipe turns into a lerp for one-channel
- *                    formats: d + round((f + (f >> 7)) * (s - d) / 256). For comparison, blending the
- *                    8-bit inputs exactly and rounding once is up to 1/255 off, and blending the
- *                    unrounded fragment colour up to 2/255 off.
+ *                    llvmpipe bit for bit (0 of 55 million channels differ). On R8, ADD with
+ *                    complementary factors (SRC_ALPHA and ONE_MINUS_SRC_ALPHA, ...) is llvmpipe's
+ *                    8-bit lerp, d + round((f + (f >> 7)) * (s - d) / 256) (regrouped_blend), and
+ *                    matches it bit for bit too. For comparison, blending the 8-bit inputs exactly
+ *                    and rounding once is up to 1/255 off, and blending the unrounded fragment
+ *                    colour up to 2/255 off.
  *   SRGB8_A8         clr_blend(normalized = true) on the destination with its rgb decoded to linear
  *                    (17.3.6.1), encoding the result afterwards (17.3.7). llvmpipe blends sRGB in
  *                    float from the unrounded fragment colour, as here: with exact sRGB conversions
  *                    the results are at most 1/255 apart, except where llvmpipe's polynomial sRGB
  *                    decoding shows, near black (up to 8/255 for SUBTRACT results close to 0).
- *   float formats    clr_blend(normalized = false): no clamping, as llvmpipe (within 2^-21 on
- *                    RGBA32F). */
+ *   float formats    clr_blend(normalized = false): no clamping, and llvmpipe's order of operations
+ *                    (regrouped_blend below): RGBA16F, RGBA32F, R32F and RG32F match it bit for bit. */
 
 /* One blend factor (table 17.2) for all four channels: the rgb factor is its .xyz and the alpha
  * factor its .w, so the same function serves the rgb and the alpha factor of the state. Colours are
@@ -122,12 +122,66 @@ inline float4 mul_unorm8(float4 a, float4 b) {
   return floor((ab + floor(ab / 256.0f) + 128.0f) / 256.0f);
 }
 
+/* Whether f and g are one another's complement (ZERO and ONE, SRC_COLOR and ONE_MINUS_SRC_COLOR, ...),
+ * and whether f is the plain one of its pair (ONE, SRC_COLOR, ...: what llvmpipe lists first). */
+inline bool complementary_factors(int f, int g) {
+  return f != g && f / 2 == g / 2 && f < CLR_FACTOR_SRC_ALPHA_SATURATE;
+}
+inline bool plain_factor(int f) { return f == CLR_FACTOR_ONE || (f % 2 == 0 && f != CLR_FACTOR_ZERO); }
+
+/* llvmpipe (lp_build_blend) rewrites blends algebraically when the rgb and the alpha state each use
+ * one factor on both sides, or the attachment has a single channel (`regroup`); the rewrites round
+ * differently from s * sf op d * df, so they are reproduced here:
+ *   equal factors f (float only)    ADD, SUBTRACT, REVERSE_SUBTRACT: (s op d) * f
+ *   complementary factors, f the    ADD: the lerp d + f * (s - d), or s + f * (d - s) when f is the
+ *   plain one's value (f and 1 - f       destination's: in float with a fused multiply-add (LLVM's
+ *   on the side it is on)                fmuladd on a CPU with FMA); in 8 bits with the weight
+ *                                        scaled to [0, 256] as f + (f >> 7) and the product divided
+ *                                        by 256, rounded (pmulhrsw);
+ *                                   SUBTRACT (float only): (s + d) * f - d, or s - (s + d) * f;
+ *                                   REVERSE_SUBTRACT (float only): d - (s + d) * f, or (s + d) * f - s.
+ * unorm8: colours and factors are 8-bit values (one = 255). Returns false, leaving *out alone, where
+ * llvmpipe blends as written. */
+inline bool regrouped_blend(int equation, int source_factor_id, int destination_factor_id, float4 s, float4 d,
+                            float4 source_factor, float4 destination_factor, bool unorm8, float4* out) {
+  if (equation != CLR_BLEND_ADD && (unorm8 || (equation != CLR_BLEND_SUBTRACT &&
+                                               equation != CLR_BLEND_REVERSE_SUBTRACT))) {
+    return false;
+  }
+  if (complementary_factors(source_factor_id, destination_factor_id)) {
+    const bool source_plain = plain_factor(source_factor_id);
+    const float4 f = source_plain ? source_factor : destination_factor;
+    const float4 from = source_plain ? d : s, to = source_plain ? s : d;
+    if (unorm8) {
+      *out = from + floor((f + floor(f / 128.0f)) * (to - from) / 256.0f + 0.5f);
+    } else if (equation == CLR_BLEND_ADD) {
+      *out = fma(f, to - from, from);
+    } else {
+      const float4 sum = (s + d) * f;
+      if (equation == CLR_BLEND_SUBTRACT) *out = source_plain ? sum - d : s - sum;
+      else *out = source_plain ? d - sum : sum - s;
+    }
+    return true;
+  }
+  if (unorm8 || source_factor_id != destination_factor_id) return false;
+  const float4 combined = equation == CLR_BLEND_ADD ? s + d : equation == CLR_BLEND_SUBTRACT ? s - d : d - s;
+  *out = combined * source_factor;
+  return true;
+}
+
 /* One blend equation (table 17.1) on all four channels; MIN and MAX ignore the factors.
- * unorm8: the colours and factors are 8-bit values (one = 255), multiplied as llvmpipe does. */
-inline float4 blend_equation(int equation, float4 source, float4 destination, float4 source_factor,
-                             float4 destination_factor, bool unorm8) {
+ * unorm8: the colours and factors are 8-bit values (one = 255), multiplied as llvmpipe does.
+ * regroup: llvmpipe's rewrites apply (regrouped_blend). */
+inline float4 blend_equation(int equation, int source_factor_id, int destination_factor_id, float4 source,
+                             float4 destination, float4 source_factor, float4 destination_factor, bool unorm8,
+                             bool regroup) {
   if (equation == CLR_BLEND_MIN) return fmin(source, destination);
   if (equation == CLR_BLEND_MAX) return fmax(source, destination);
+  float4 regrouped;
+  if (regroup && regrouped_blend(equation, source_factor_id, destination_factor_id, source, destination,
+                                 source_factor, destination_factor, unorm8, &regrouped)) {
+    return regrouped;
+  }
   const float4 source_term = unorm8 ? mul_unorm8(source, source_factor) : source * source_factor;
   const float4 destination_term = unorm8 ? mul_unorm8(destination, destination_factor) : destination * destination_factor;
   switch (equation) {
@@ -137,28 +191,54 @@ inline float4 blend_equation(int equation, float4 source, float4 destination, fl
   }
 }
 
-/* The rgb equation and factors on .xyz, the alpha ones on .w. */
-inline float4 blend_colors(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool unorm8) {
+/* For attachments without alpha, llvmpipe hard-wires the destination alpha to 1 by replacing
+ * factors (force_dst_alpha_one in lp_state_fs.c): DST_ALPHA becomes ONE and ONE_MINUS_DST_ALPHA
+ * ZERO (SRC_ALPHA_SATURATE becomes ZERO for 8-bit formats only, where every rewrite it enables
+ * gives the same result), and gives alpha the rgb equation and factors. The values do not change,
+ * but the new factors decide llvmpipe's rewrites (regrouped_blend). */
+inline int factor_without_destination_alpha(int factor) {
+  switch (factor) {
+    case CLR_FACTOR_DST_ALPHA: return CLR_FACTOR_ONE;
+    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return CLR_FACTOR_ZERO;
+    default: return factor;
+  }
+}
+
+inline bool ignores_factors(int equation) { return equation == CLR_BLEND_MIN || equation == CLR_BLEND_MAX; }
+
+/* The rgb equation and factors on .xyz, the alpha ones on .w, for an attachment of `channels` channels. */
+inline float4 blend_colors(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool unorm8,
+                           int channels) {
+  /* Mesa's state tracker gives MIN and MAX the factors ONE and ONE, first (st_update_blend). */
+  if (ignores_factors(b.rgb_equation)) b.src_rgb = b.dst_rgb = CLR_FACTOR_ONE;
+  if (ignores_factors(b.alpha_equation)) b.src_alpha = b.dst_alpha = CLR_FACTOR_ONE;
+  if (channels < 4) {
+    b.src_rgb = b.src_alpha = factor_without_destination_alpha(b.src_rgb);
+    b.dst_rgb = b.dst_alpha = factor_without_destination_alpha(b.dst_rgb);
+    b.alpha_equation = b.rgb_equation;
+  }
   const float one = unorm8 ? 255.0f : 1.0f;
-  const float4 rgb = blend_equation(b.rgb_equation, source, destination,
+  const bool regroup = (b.src_rgb == b.dst_rgb && b.src_alpha == b.dst_alpha) || channels == 1;
+  const float4 rgb = blend_equation(b.rgb_equation, b.src_rgb, b.dst_rgb, source, destination,
                                     blend_factor(b.src_rgb, source, destination, constant_color, one),
-                                    blend_factor(b.dst_rgb, source, destination, constant_color, one), unorm8);
-  const float4 alpha = blend_equation(b.alpha_equation, source, destination,
-                                      blend_factor(b.src_alpha, source, destination, constant_color, one),
-                                      blend_factor(b.dst_alpha, source, destination, constant_color, one), unorm8);
+                                    blend_factor(b.dst_rgb, source, destination, constant_color, one), unorm8, regroup);
+  const float4 alpha =
+      blend_equation(b.alpha_equation, b.src_alpha, b.dst_alpha, source, destination,
+                     blend_factor(b.src_alpha, source, destination, constant_color, one),
+                     blend_factor(b.dst_alpha, source, destination, constant_color, one), unorm8, regroup);
   return (float4)(rgb.xyz, alpha.w);
 }
 
 /* The blended colour of a float attachment (normalized = false) or an sRGB one (normalized = true,
- * destination rgb decoded to linear), before conversion to its format. */
+ * destination rgb decoded to linear) of `channels` channels, before conversion to its format. */
 inline float4 clr_blend(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
-                        bool normalized) {
+                        bool normalized, int channels) {
   if (normalized) {
     source = clamp(source, 0.0f, 1.0f);
     destination = clamp(destination, 0.0f, 1.0f);
     constant_color = clamp(constant_color, 0.0f, 1.0f);
   }
-  return blend_colors(b, source, destination, constant_color, false);
+  return blend_colors(b, source, destination, constant_color, false, channels);
 }
 
 /* A colour in [0, 1] as an 8-bit value, rounded to nearest even as llvmpipe converts (NaN becomes 0). */
@@ -170,8 +250,10 @@ inline float4 to_unorm8(float4 c) {
  * multiple of 1/255 in [0, 1] (so any conversion that rounds to nearest gives the byte).
  * destination: the stored colour, with the channels the format lacks as GL reads them (green and
  * blue 0, alpha 1). */
-inline float4 clr_blend_unorm8(BlendUniforms b, float4 source, float4 destination, float4 constant_color) {
-  const float4 blended = blend_colors(b, to_unorm8(source), to_unorm8(destination), to_unorm8(constant_color), true);
+inline float4 clr_blend_unorm8(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
+                               int channels) {
+  const float4 blended =
+      blend_colors(b, to_unorm8(source), to_unorm8(destination), to_unorm8(constant_color), true, channels);
   return clamp(blended, 0.0f, 255.0f) / 255.0f;
 }
 

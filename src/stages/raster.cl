@@ -102,9 +102,11 @@ void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local
     if (program_alpha) b.alpha_equation = CLR_BLEND_ADD;
     const float4 constant_color = vload4(0, u->blend_color);
     /* 8-bit linear attachments blend in 8-bit fixed point, as llvmpipe does (fragment_ops.cl). */
-    const float4 fixed = format <= CLR_FORMAT_RGBA8 ? clr_blend_unorm8(b, source, destination, constant_color)
-                                                    : clr_blend(b, source, destination, constant_color,
-                                                                is_normalized_format(format));
+    const int channels = clr_texel_layout_of(format).channels;
+    const float4 fixed =
+        format <= CLR_FORMAT_RGBA8
+            ? clr_blend_unorm8(b, source, destination, constant_color, channels)
+            : clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels);
     result = (float4)(program_rgb ? programmed.xyz : fixed.xyz, program_alpha ? programmed.w : fixed.w);
   }
   *pixel = as_uint4(clr_quantize_float(format, clr_apply_write_mask(b.write_mask, result, destination)));
