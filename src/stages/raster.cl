@@ -159,6 +159,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_SHADING
   __local float4 quad_exchange[CLR_TILE_PIXELS];
   __local uint group_coverage[CLR_RASTER_TRIANGLE_BATCH / 32]; /* bit i: triangle i covers a pixel */
+  __local uchar covering[CLR_RASTER_TRIANGLE_BATCH];            /* those triangles, in order */
+  __local uint covering_count;
 #endif
   const uint tile = get_group_id(1) * tiles_x + get_group_id(0);
   const uint begin = tile_ranges[2 * tile];
@@ -211,9 +213,21 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       if (covered[w]) atomic_or(&group_coverage[w], covered[w]);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint i = 0; i < n; ++i) {
-      /* The same decision in every work-item, so all of them reach the program's barriers. */
-      if (!(group_coverage[i / 32] & (1u << (i % 32)))) continue;
+    /* Every work-item runs the program for each triangle that covers a pixel of the tile, so that
+     * all of them reach its barriers. One work-item lists those triangles and the group loops over
+     * the list: PoCL 3.1 miscompiles the plainer loop over the whole batch that skips the others
+     * with a branch (uniform though it is), leaving live fragments after a skipped triangle unwritten. */
+    if (lane == 0) {
+      uint count = 0;
+      for (uint i = 0; i < n; ++i) {
+        if (group_coverage[i / 32] & (1u << (i % 32))) covering[count++] = (uchar)i;
+      }
+      covering_count = count;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const uint count = covering_count;
+    for (uint j = 0; j < count; ++j) {
+      const uint i = covering[j];
       edge_values(&batch[i], x, y, e);
       process_fragment(&batch[i], x, y, e, (covered[i / 32] >> (i % 32)) & 1u, &f, tile_color, &tile_depth[lane],
                        &tile_stencil[lane], u);
