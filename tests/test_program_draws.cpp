@@ -1,10 +1,14 @@
+// Drawing with user programs, where a program's shape changes the stage program generated for it.
+//
 // Quad shading: a program that takes derivatives is run in 2x2 quads, with helper invocations for
 // the uncovered pixels of each quad. Helpers only feed derivatives, so the pixels written and their
 // values must be exactly those of the same program shaded per pixel.
 #include "io/procedural.hpp"
 #include "support/test_support.hpp"
 
+#include <array>
 #include <string>
+#include <vector>
 
 namespace clraster::test {
 namespace {
@@ -49,6 +53,38 @@ TEST(QuadShading, WritesExactlyThePixelsAndValuesOfPerPixelShading) {
   ASSERT_FALSE(per_pixel.interface().uses_derivatives);
   ASSERT_TRUE(quads.interface().uses_derivatives);
   EXPECT_TRUE(images_match(render(quads, mesh), render(per_pixel, mesh), kExact));
+}
+
+// A depth-only pass (a shadow map's): a program with no outputs writes depth and leaves any colour
+// attachment as it was.
+TEST(ProgramWithoutOutputs, WritesDepthOnly) {
+  const Program depth_only(shared_context(), R"(
+clr_attribute(float2, position)
+void vertex(clr_vertex* v) { v->position = (float4)(v->in.position, 0.0f, 1.0f); }
+void fragment(clr_fragment* f) {}
+)", "depth_only.cl");
+  const std::vector<float> full_screen = {-1, -1, 3, -1, -1, 3};
+  const Buffer positions(shared_context(), full_screen);
+  DrawCall call;
+  call.program = &depth_only;
+  call.attributes = {{"position", &positions, AttributeType::Float2}};
+
+  Texture depth(shared_context(), 8, 8, Format::Depth32F);
+  Framebuffer depth_target(shared_context(), {}, &depth);
+  depth_target.clear_depth(1.0f);
+  depth_target.draw(call);
+  EXPECT_EQ(depth_target.read_depth(), std::vector<float>(64, 0.5f));  // clip z 0 is depth 0.5
+
+  Framebuffer color_and_depth(shared_context(), 8, 8);
+  color_and_depth.clear({0.2f, 0.4f, 0.6f, 1.0f}, 1.0f);
+  color_and_depth.draw(call);
+  EXPECT_EQ(color_and_depth.read_depth(), std::vector<float>(64, 0.5f));
+  const Image color = color_and_depth.read_color();
+  for (std::size_t i = 0; i < color.rgba.size(); i += 4) {
+    ASSERT_EQ((std::array<int, 4>{color.rgba[i], color.rgba[i + 1], color.rgba[i + 2], color.rgba[i + 3]}),
+              (std::array<int, 4>{51, 102, 153, 255}))
+        << "pixel " << i / 4;
+  }
 }
 
 }  // namespace
