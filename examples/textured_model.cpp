@@ -8,7 +8,9 @@
 // draw per part, each with the bindings (texture and colour factor) of its material.
 #include <clraster/clraster.hpp>
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <exception>
 #include <iostream>
 #include <string>
