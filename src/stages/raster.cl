@@ -191,14 +191,14 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   const uint lane = get_local_id(1) * CLR_TILE_SIZE + get_local_id(0);
   __global float* depth = (__global float*)depth_stencil;
   __global uchar* stencil = depth_stencil + stencil_offset;
-#if CLR_NUM_OUTPUTS > 0
+#if CLR_NUM_OUTPUTS > 0 /* a program without outputs (a depth-only pass) has no colour targets */
   __global uchar* const targets[CLR_NUM_OUTPUTS] = CLR_TARGETS;
-#endif
   for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
     const int format = u->target_format[k];
     tile_color[k * CLR_TILE_PIXELS + lane] =
         writable && format >= 0 ? load_attachment_pixel(format, targets[k], pixel) : (uint4)(0);
   }
+#endif
   tile_depth[lane] = writable && u->depth_test ? depth[pixel] : 0.0f;
   tile_stencil[lane] = writable && u->stencil_test ? stencil[pixel] : 0;
 
@@ -252,10 +252,12 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #endif
   }
   if (!writable) return;
+#if CLR_NUM_OUTPUTS > 0
   for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
     const int format = u->target_format[k];
     if (format >= 0) store_attachment_pixel(format, targets[k], pixel, tile_color[k * CLR_TILE_PIXELS + lane]);
   }
+#endif
   if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
   if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
 }

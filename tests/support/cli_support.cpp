@@ -102,7 +102,12 @@ std::ostream& operator<<(std::ostream& stream, const CliResult& result) {
 
 CliResult run_cli(const std::vector<std::string>& args, const std::map<std::string, std::string>& env,
                   std::chrono::seconds timeout) {
-  std::vector<std::string> argv_strings{CLRASTER_CLI_PATH};
+  return run_executable(CLRASTER_CLI_PATH, args, env, timeout);
+}
+
+CliResult run_executable(const std::string& path, const std::vector<std::string>& args,
+                         const std::map<std::string, std::string>& env, std::chrono::seconds timeout) {
+  std::vector<std::string> argv_strings{path};
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
   std::vector<std::string> env_strings = child_environment(env);
   const std::vector<char*> argv = pointers(argv_strings);

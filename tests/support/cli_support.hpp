@@ -1,4 +1,4 @@
-// Running the clraster command line from tests: the built executable in a child process, with
+// Running the clraster command line (or another built executable) from tests: in a child process, with
 // its exit status and output captured and a time limit, so that a crash or a hang is a test
 // failure instead of a lost test run. Also a scratch directory for the files the tests hand it.
 #pragma once
@@ -30,6 +30,11 @@ std::ostream& operator<<(std::ostream& stream, const CliResult& result);
 // stdin from /dev/null. A process still running after `timeout` is killed.
 CliResult run_cli(const std::vector<std::string>& args, const std::map<std::string, std::string>& env = {},
                   std::chrono::seconds timeout = std::chrono::seconds(180));
+
+// The same for any executable (the examples, for instance).
+CliResult run_executable(const std::string& path, const std::vector<std::string>& args,
+                         const std::map<std::string, std::string>& env = {},
+                         std::chrono::seconds timeout = std::chrono::seconds(180));
 
 // Exit code 0, not ended by a signal or the time limit, nothing on stderr.
 ::testing::AssertionResult succeeded(const CliResult& result);
