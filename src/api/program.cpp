@@ -112,6 +112,10 @@ Program Program::load(Context& context, const std::string& path) {
   return Program(context, text.str(), path);
 }
 
+ProgramInterface Program::read_interface(const std::string& source, const std::string& file_name) {
+  return program::parse_program(source, file_name).interface;
+}
+
 Program::~Program() = default;
 Program::Program(Program&&) noexcept = default;
 Program& Program::operator=(Program&&) noexcept = default;
