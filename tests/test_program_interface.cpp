@@ -171,6 +171,21 @@ TEST(ProgramCompile, ErrorsPointAtTheUsersFileAndLine) {
   }
 }
 
+TEST(ProgramCompile, ErrorsInsideBuiltInsPointAtTheUsersLineToo) {
+  // PoCL's fract is a macro: clang places the error in the user's line and in PoCL's header.
+  try {
+    Program(shared_context(), "clr_output(float4, color)\nvoid vertex(clr_vertex* v) {}\n"
+                              "void fragment(clr_fragment* f) { f->out.color = fract(f->frag_coord); }\n",
+            "shaders/one_argument.cl");
+    FAIL() << "the program compiled";
+  } catch (const BuildError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("\nshaders/one_argument.cl:3:49: error: no matching function for call to "), std::string::npos)
+        << message;
+    EXPECT_EQ(message.find("Spelling"), std::string::npos) << message;
+  }
+}
+
 TEST(ProgramCompile, AMissingFileIsAnError) {
   EXPECT_THROW(
       {
