@@ -100,8 +100,9 @@ int main(int argc, char** argv) {
   render
       ->add_option("--program", render_options.program,
                    "Draw with this OpenCL C program file instead of a --shading mode (docs/cli.md says what it "
-                   "can declare)")
-      ->excludes(shading);
+                   "can declare); not with --shading")
+      ->excludes(shading)
+      ->option_text("FILE.cl");
   render->add_option("--cull", render_options.cull, "Face culling: none, back or front")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, CullMode>{{"none", CullMode::None}, {"back", CullMode::Back}, {"front", CullMode::Front}},
