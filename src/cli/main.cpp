@@ -171,9 +171,9 @@ int main(int argc, char** argv) {
     if (*compare) return cli::compare(compare_options);
     if (*devices) return cli::devices();
   } catch (const BuildError& error) {
-    // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form, each with its
-    // source line (docs/programs.md): printed as they are, under the first line. Other builds (the
-    // pipeline's own kernels) say only which program failed: the compiler's log follows.
+    // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form
+    // (docs/programs.md): printed as they are, under the first line. Other builds (the pipeline's
+    // own kernels) say only which program failed: the compiler's log follows.
     std::cerr << "clraster: error: " << error.what() << '\n';
     if (std::string_view(error.what()).find('\n') == std::string_view::npos) std::cerr << error.log() << '\n';
     return 1;
