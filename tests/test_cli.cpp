@@ -55,6 +55,12 @@ std::string to_obj(const io::Mesh& mesh) {
 // The three vertices of a triangle, for OBJ files.
 const std::string kObjTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 
+// A model of that one triangle.
+fs::path triangle_file() {
+  static const fs::path path = write_scratch_file("triangle.obj", kObjTriangle + "f 1 2 3\n");
+  return path;
+}
+
 // A small landscape with no symmetry, so that any mistake in the camera shows.
 const io::Mesh& landscape() {
   static const io::Mesh mesh = io::make_terrain(16, 12, 4, 3, 0.6f, 7);
@@ -71,28 +77,10 @@ io::Mesh load(const fs::path& path) {
   return io::load_model(path.string(), warnings);
 }
 
-// `clraster render --output scratch_directory()/output_name args...`, which must succeed.
-struct Rendered {
-  fs::path file;
-  Image picture;    // as read back from the file
-  std::string out;  // stdout
-};
-Rendered render(const std::string& output_name, std::vector<std::string> args) {
-  const fs::path output = scratch_directory() / output_name;
-  args.insert(args.begin(), {"render", "--output", output.string()});
-  const CliResult result = run_cli(args);
-  EXPECT_TRUE(succeeded(result));
-  return {output, result.exit_code == 0 ? io::load_png(output.string()) : Image{}, result.out};
-}
-
-::testing::AssertionResult mentions(std::string_view text, std::string_view part) {
-  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << part << "' is not in: " << text;
-}
 
 // The keys of the --stats line: those of every backend, and clraster's draw counters.
-const std::vector<std::string> kStatsKeys{"triangles",      "width",     "height", "frames",
-                                          "first_frame_ms", "median_ms", "min_ms", "device"};
+const std::vector<std::string> kStatsKeys{"triangles", "width",  "height", "frames", "first_frame_ms",
+                                          "median_ms", "min_ms", "device", "draws"};
 const std::vector<std::string> kDrawCounterKeys{"triangles_dropped", "chunks", "tile_triangle_pairs",
                                                 "peak_memory_bytes"};
 
@@ -141,7 +129,8 @@ TEST(CliInterface, RenderHelpNamesEveryOption) {
   const CliResult result = run_cli({"render", "--help"});
   EXPECT_TRUE(succeeded(result));
   for (const char* option : {"--output", "--size", "--eye", "--target", "--up", "--fov", "--near", "--far", "--shading",
-                             "--cull", "--frames", "--stats", "--device", "--backend", "--memory-cap", "--tile-size"}) {
+                             "--program", "--cull", "--frames", "--stats", "--device", "--backend", "--memory-cap",
+                             "--tile-size"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
@@ -354,6 +343,83 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"DeviceNegative", {"--device", "-1"}, "--device"},
         BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "1000"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// A program declaring `declarations`, whose functions use none of them but the output `color`, for
+// the command line to reject (or accept) for what it declares.
+std::string program_declaring(const std::string& declarations) {
+  return declarations +
+         "\nvoid vertex(clr_vertex* v) { v->position = (float4)(0.0f, 0.0f, 0.0f, 1.0f); }\n"
+         "void fragment(clr_fragment* f) { f->out.color = 1; }\n";
+}
+
+const std::string kPositionAndColour = "clr_attribute(float3, position)\nclr_output(float4, color)\n";
+
+struct BadProgram {
+  const char* name;
+  std::string declarations;
+  const char* subject;
+};
+
+// Programs that compile but declare what the command line does not provide (docs/cli.md).
+class RejectedProgram : public ::testing::TestWithParam<BadProgram> {};
+
+TEST_P(RejectedProgram, IsNamedWithTheDeclarationAndItsLine) {
+  const fs::path program = write_scratch_file(std::string(GetParam().name) + ".cl", program_declaring(GetParam().declarations));
+  expect_render_rejected({triangle_file().string(), "--program", program.string(), "--size", "16x16"}, GetParam().subject);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Declarations, RejectedProgram,
+    ::testing::Values(
+        // The whole list of what the command line provides follows a name it does not.
+        BadProgram{"UnknownUniform", kPositionAndColour + "clr_uniform(float3, light)",
+                   "(line 3) declares uniform 'light', which the command line does not provide (it provides "
+                   "attributes position (float3), normal (float3), uv (float2); uniforms mvp (float16), model_view "
+                   "(float16), normal_matrix (float16), projection (float16), base_color (float4), light_direction "
+                   "(float3), viewport (float2); texture base_color_texture; one float4 output)"},
+        BadProgram{"UnknownAttribute", kPositionAndColour + "clr_attribute(float4, colour)", "attribute 'colour'"},
+        BadProgram{"UnknownTexture", kPositionAndColour + "clr_texture(albedo)", "texture 'albedo'"},
+        BadProgram{"Buffer", kPositionAndColour + "clr_buffer(float, data)", "buffer 'data'"},
+        BadProgram{"UniformOfAnotherType", kPositionAndColour + "clr_uniform(float4, mvp)",
+                   "uniform 'mvp' as float4; the command line provides it as float16"},
+        BadProgram{"UniformArray", kPositionAndColour + "clr_uniform(float4, base_color[2])",
+                   "uniform 'base_color' as an array of 2"},
+        BadProgram{"AttributeOfAnotherType", "clr_attribute(float4, position)\nclr_output(float4, color)",
+                   "attribute 'position' as float4; the command line provides it as float3"},
+        BadProgram{"TwoOutputs", kPositionAndColour + "clr_output(float4, glow)", "declares 2 outputs"},
+        BadProgram{"IntegerOutput", "clr_attribute(float3, position)\nclr_output(uint4, color)",
+                   "output 'color' as uint4"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(CliBadInput, ProgramFileThatDoesNotExist) {
+  expect_render_rejected({triangle_file().string(), "--program", "/nonexistent/lit.cl"}, "/nonexistent/lit.cl");
+}
+
+TEST(CliBadInput, ProgramThatDoesNotCompileShowsTheCompilersFileLineAndColumn) {
+  const fs::path program = write_scratch_file(
+      "broken.cl", "clr_attribute(float3, position)\nclr_output(float4, color)\n\n"
+                   "void vertex(clr_vertex* v) { v->position = undefined_thing; }\n"
+                   "void fragment(clr_fragment* f) { f->out.color = 1; }\n");
+  const std::string sentinel = "an earlier picture\n";
+  const fs::path output = write_scratch_file("kept.png", sentinel);
+  const CliResult result =
+      run_cli({"render", triangle_file().string(), "--output", output.string(), "--program", program.string()});
+  EXPECT_EQ(result.exit_code, 1) << result;
+  // One "clraster: error:" line naming the program, then the compiler's messages.
+  EXPECT_TRUE(result.err.starts_with("clraster: error: program " + program.string() + " failed to compile:\n"))
+      << result;
+  EXPECT_TRUE(mentions(result.err, "\n" + program.string() + ":4:44: error: use of undeclared identifier 'undefined_thing'\n"));
+  EXPECT_EQ(result.err.find("clraster: error:", 1), std::string::npos) << result;
+  EXPECT_TRUE(read_file(output) == sentinel);
+}
+
+TEST(CliBadInput, ProgramTogetherWithShading) {
+  expect_render_rejected({triangle_file().string(), "--program", "lit.cl", "--shading", "material"}, "--shading");
+}
+
+TEST(CliBadInput, ProgramOnTheGlBackend) {
+  expect_render_rejected({triangle_file().string(), "--program", "lit.cl", "--backend", "gl"}, "--program lit.cl");
+}
 
 struct BadModelFile {
   std::string name;

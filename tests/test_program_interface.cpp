@@ -143,6 +143,21 @@ TEST(ProgramInterface, MalformedDeclarationsNameFileLineAndProblem) {
   EXPECT_EQ(parse_error(with_entry_points(nine_outputs)), "user.cl:9: more than 8 outputs (one per colour attachment)");
 }
 
+TEST(ProgramInterface, ReadInterfaceReadsTheDeclarationsWithoutCompiling) {
+  // The functions would not compile: only the declarations are read.
+  const ProgramInterface in = Program::read_interface(
+      "clr_attribute(float3, position)\nclr_uniform(float4, tint)\nclr_output(float4, color)\n"
+      "void vertex(clr_vertex* v) { v->position = undefined_thing; }\nvoid fragment(clr_fragment* f) {}\n",
+      "tool.cl");
+  ASSERT_EQ(in.attributes.size(), 1u);
+  EXPECT_EQ(in.attributes[0].name, "position");
+  ASSERT_EQ(in.uniforms.size(), 1u);
+  EXPECT_EQ(in.uniforms[0].type, "float4");
+  EXPECT_EQ(in.uniforms[0].line, 2);
+  ASSERT_EQ(in.outputs.size(), 1u);
+  EXPECT_THROW(Program::read_interface(with_entry_points("clr_uniform(float5, x)\n"), "tool.cl"), InvalidArgument);
+}
+
 TEST(ProgramCompile, ErrorsPointAtTheUsersFileAndLine) {
   try {
     Program(shared_context(), "clr_output(float4, color)\nvoid vertex(clr_vertex* v) {\n  v->position = undefined_thing;\n}\n"
@@ -201,6 +216,21 @@ TEST(ProgramCompile, AProgramWithOnlyWarningsCompiles) {
                         "  if (unused = 4) f->out.color = (float4)(1.0f);\n"  // assignment as a condition
                         "}\n"),
             "(compiled)");
+}
+
+TEST(ProgramCompile, ErrorsInsideBuiltInsPointAtTheUsersLineToo) {
+  // PoCL's fract is a macro: clang places the error in the user's line and in PoCL's header.
+  try {
+    Program(shared_context(), "clr_output(float4, color)\nvoid vertex(clr_vertex* v) {}\n"
+                              "void fragment(clr_fragment* f) { f->out.color = fract(f->frag_coord); }\n",
+            "shaders/one_argument.cl");
+    FAIL() << "the program compiled";
+  } catch (const BuildError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("\nshaders/one_argument.cl:3:49: error: no matching function for call to "), std::string::npos)
+        << message;
+    EXPECT_EQ(message.find("Spelling"), std::string::npos) << message;
+  }
 }
 
 TEST(ProgramCompile, AMissingFileIsAnError) {

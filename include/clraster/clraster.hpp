@@ -332,6 +332,10 @@ class Program {
   // malformed interface declaration.
   Program(Context& context, std::string source, std::string file_name = "program.cl");
   static Program load(Context& context, const std::string& path);
+  // What `source` declares, read without compiling it (a build takes seconds; this, microseconds),
+  // for tools that check a program before they build it. Throws InvalidArgument for a malformed
+  // declaration, as the constructor does.
+  static ProgramInterface read_interface(const std::string& source, const std::string& file_name = "program.cl");
   ~Program();
   Program(Program&&) noexcept;
   Program& operator=(Program&&) noexcept;

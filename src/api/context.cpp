@@ -62,7 +62,12 @@ pipeline::Pipeline& ContextState::get_pipeline() {
 
 const Program& ContextState::builtin_program() {
   if (!builtin) {
-    builtin = std::make_unique<Program>(compile_program(shared_from_this(), cl_sources::text("program/builtin.cl"), "<builtin>"));
+    std::unique_ptr<Program::Impl> impl = compile_program(shared_from_this(), cl_sources::text("program/builtin.cl"), "<builtin>");
+    // This state owns its built-in program, so the program must not own this state back (the two
+    // would keep each other alive, and every context that drew with it leaked): it keeps a pointer
+    // that owns nothing, which is all draws compare it with.
+    impl->state = std::shared_ptr<ContextState>(std::shared_ptr<ContextState>(), this);
+    builtin = std::make_unique<Program>(std::move(impl));
   }
   return *builtin;
 }

@@ -12,7 +12,9 @@ namespace clraster {
 namespace {
 
 // A compiler diagnostic as "FILE:LINE:COLUMN: severity: message": clang's own form, or PoCL's
-// rewrite of it, "severity: FILE:LINE:COLUMN: message".
+// rewrite of it, "severity: FILE:LINE:COLUMN: message". Where the error is in a macro's expansion
+// (PoCL's built-ins are macros: fract is _cl_fract), the location is followed by
+// " <Spelling=HEADER:LINE:COLUMN>", which is left out: the user's line is what matters.
 struct Diagnostic {
   std::string text;
   bool error = false;
@@ -20,8 +22,8 @@ struct Diagnostic {
 };
 
 std::optional<Diagnostic> parse_diagnostic(const std::string& line, const std::string& file_name) {
-  static const std::regex clang_form(R"(^(.+?):(\d+):(\d+): (error|warning|note): (.*)$)");
-  static const std::regex pocl_form(R"(^(error|warning|note): (.+?):(\d+):(\d+): (.*)$)");
+  static const std::regex clang_form(R"(^(.+?):(\d+):(\d+)(?: <Spelling=[^>]*>)?: (error|warning|note): (.*)$)");
+  static const std::regex pocl_form(R"(^(error|warning|note): (.+?):(\d+):(\d+)(?: <Spelling=[^>]*>)?: (.*)$)");
   std::smatch m;
   std::string file, line_number, column, severity, message;
   if (std::regex_match(line, m, pocl_form)) {
@@ -110,6 +112,10 @@ Program Program::load(Context& context, const std::string& path) {
   text << file.rdbuf();
   if (file.bad()) throw InvalidArgument("cannot read program file " + path);
   return Program(context, text.str(), path);
+}
+
+ProgramInterface Program::read_interface(const std::string& source, const std::string& file_name) {
+  return program::parse_program(source, file_name).interface;
 }
 
 Program::~Program() = default;

@@ -9,7 +9,9 @@
 namespace clraster::cli {
 
 enum class Backend { Clraster, Gl };
-enum class ShadingOption { Normal, Lambert, Depth, Overdraw };
+// Normal, Lambert, Depth and Overdraw are the library's built-in shadings (clraster::Shading);
+// Material draws the model's materials with the material program (programs/material.cl).
+enum class ShadingOption { Normal, Lambert, Depth, Overdraw, Material };
 
 struct RenderOptions {
   std::string model;  // empty: the built-in demo scene
@@ -20,6 +22,7 @@ struct RenderOptions {
   float fov_degrees = 45;
   std::optional<float> near_plane, far_plane;
   ShadingOption shading = ShadingOption::Normal;
+  std::string program;  // a --program file (then `shading` is not used); empty: none
   CullMode cull = CullMode::None;
   int frames = 0;  // timed frames after the warm-up frame
   bool stats = false;

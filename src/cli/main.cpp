@@ -84,15 +84,25 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI::Option* near_option = render->add_option("--near", near_plane, "Near plane distance (default: fitted)");
   CLI::Option* far_option = render->add_option("--far", far_plane, "Far plane distance (default: fitted)");
-  render->add_option("--shading", render_options.shading,
-                     "normal: object-space normal as colour; lambert: grey lit by a headlight; depth: view "
-                     "distance as grey, near white; overdraw: red = fragments per pixel, no depth test")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, ShadingOption>{{"normal", ShadingOption::Normal},
-                                                                               {"lambert", ShadingOption::Lambert},
-                                                                               {"depth", ShadingOption::Depth},
-                                                                               {"overdraw", ShadingOption::Overdraw}},
-                                          CLI::ignore_case))
-      ->option_text("normal|lambert|depth|overdraw (default: normal)");
+  CLI::Option* shading =
+      render
+          ->add_option("--shading", render_options.shading,
+                       "normal: object-space normal as colour; lambert: grey lit by a headlight; depth: view "
+                       "distance as grey, near white; overdraw: red = fragments per pixel, no depth test; "
+                       "material: the model's materials (base colour texture times factor) lit by a headlight")
+          ->transform(CLI::CheckedTransformer(std::map<std::string, ShadingOption>{{"normal", ShadingOption::Normal},
+                                                                                   {"lambert", ShadingOption::Lambert},
+                                                                                   {"depth", ShadingOption::Depth},
+                                                                                   {"overdraw", ShadingOption::Overdraw},
+                                                                                   {"material", ShadingOption::Material}},
+                                              CLI::ignore_case))
+          ->option_text("normal|lambert|depth|overdraw|material (default: normal)");
+  render
+      ->add_option("--program", render_options.program,
+                   "Draw with this OpenCL C program file instead of a --shading mode (docs/cli.md says what it "
+                   "can declare); not with --shading")
+      ->excludes(shading)
+      ->option_text("FILE.cl");
   render->add_option("--cull", render_options.cull, "Face culling: none, back or front")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, CullMode>{{"none", CullMode::None}, {"back", CullMode::Back}, {"front", CullMode::Front}},
@@ -161,7 +171,11 @@ int main(int argc, char** argv) {
     if (*compare) return cli::compare(compare_options);
     if (*devices) return cli::devices();
   } catch (const BuildError& error) {
-    std::cerr << "clraster: error: " << error.what() << '\n' << error.log() << '\n';
+    // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form
+    // (docs/programs.md): printed as they are, under the first line. Other builds (the pipeline's
+    // own kernels) say only which program failed: the compiler's log follows.
+    std::cerr << "clraster: error: " << error.what() << '\n';
+    if (std::string_view(error.what()).find('\n') == std::string_view::npos) std::cerr << error.log() << '\n';
     return 1;
   } catch (const std::exception& error) {
     std::cerr << "clraster: error: " << error.what() << '\n';

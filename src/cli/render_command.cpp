@@ -1,5 +1,6 @@
 #include "cli/commands.hpp"
 #include "cli/demo_scene.hpp"
+#include "cli/model_draws.hpp"
 #include "io/image_io.hpp"
 #include "io/model_loader.hpp"
 #include "oracle/gl_renderer.hpp"
@@ -11,6 +12,8 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <memory>
+#include <regex>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -50,6 +53,31 @@ FrameTimes time_frames(int frames, const std::function<void()>& frame) {
   return times;
 }
 
+// Whether the model is drawn by a program following the command line's contract (part by part,
+// with its materials) rather than by one of the library's built-in shadings.
+bool draws_materials(const RenderOptions& options) {
+  return !options.program.empty() || options.shading == ShadingOption::Material;
+}
+
+void print_warnings(const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings) std::cerr << "clraster: warning: " << warning << '\n';
+}
+
+// The model file, or the built-in demo scene as a model of one part with a white material.
+io::Model load_scene(const RenderOptions& options) {
+  std::vector<std::string> warnings;
+  io::Model model;
+  if (options.model.empty()) {
+    static_cast<io::Mesh&>(model) = make_demo_scene();
+    model.materials.emplace_back();
+    model.parts.push_back({0, static_cast<std::uint32_t>(model.indices.size()), 0});
+  } else {
+    model = io::load_model(options.model, warnings);
+  }
+  print_warnings(warnings);
+  return model;
+}
+
 DrawState make_state(const RenderOptions& options, const io::Camera& camera) {
   DrawState state;
   state.model_view = io::to_mat4(io::view_matrix(camera));
@@ -72,8 +100,162 @@ DrawState make_state(const RenderOptions& options, const io::Camera& camera) {
       state.blend[0] = kAdditiveBlend;
       state.depth_test = false;
       break;
+    case ShadingOption::Material: break;  // a program's draws: the built-in shading inputs are not read
   }
   return state;
+}
+
+// A backend's picture, frame times and statistics (its own keys of the --stats line).
+struct Rendering {
+  Image image;
+  FrameTimes times;
+  nlohmann::json stats;
+};
+
+// The statistics of several draws of one frame as those of one: counts add up, the peak is the
+// context's so far.
+void accumulate(DrawStats& total, const DrawStats& draw) {
+  total.triangles += draw.triangles;
+  total.triangles_dropped += draw.triangles_dropped;
+  total.chunks += draw.chunks;
+  total.tile_triangle_pairs += draw.tile_triangle_pairs;
+  total.peak_memory_bytes = std::max(total.peak_memory_bytes, draw.peak_memory_bytes);
+  total.stage_times.vertex_ms += draw.stage_times.vertex_ms;
+  total.stage_times.setup_ms += draw.stage_times.setup_ms;
+  total.stage_times.binning_ms += draw.stage_times.binning_ms;
+  total.stage_times.raster_ms += draw.stage_times.raster_ms;
+  total.stage_times.other_ms += draw.stage_times.other_ms;
+}
+
+// Compiles `program`. PoCL lets clang print its summary of a build's diagnostics ("1 error
+// generated.") straight to the process's stderr, without the diagnostics themselves (which a
+// BuildError carries, and which the build log keeps for warnings): such lines are held back from
+// stderr, anything else written there during the build is passed on.
+Program compile(Context& context, const ProgramSource& program) {
+  static const std::regex summary(R"(^\d+ (warning|error)s?( and \d+ errors?)? generated\.$)");
+  std::fflush(stderr);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> captured(std::tmpfile(), &std::fclose);
+  const int saved = captured ? ::dup(STDERR_FILENO) : -1;
+  if (saved < 0) return Program(context, program.text, program.file_name);  // nowhere to hold it: let it through
+  ::dup2(::fileno(captured.get()), STDERR_FILENO);
+  const auto pass_on = [&] {
+    std::fflush(stderr);
+    ::dup2(saved, STDERR_FILENO);
+    ::close(saved);
+    std::rewind(captured.get());
+    char line[4096];
+    while (std::fgets(line, sizeof line, captured.get()) != nullptr) {
+      std::string text(line);
+      if (!text.empty() && text.back() == '\n') text.pop_back();
+      if (!std::regex_match(text, summary)) std::cerr << text << '\n';
+    }
+  };
+  try {
+    Program compiled(context, program.text, program.file_name);
+    pass_on();
+    return compiled;
+  } catch (...) {
+    pass_on();
+    throw;
+  }
+}
+
+// The program of --program or of --shading material, checked against the command line's contract.
+ProgramSource contract_program(const RenderOptions& options) {
+  ProgramSource program =
+      options.program.empty() ? ProgramSource{kMaterialProgram, "<material>"} : read_program_file(options.program);
+  check_contract(program);
+  return program;
+}
+
+// `program`: what draws the model's materials, or none for a built-in shading.
+Rendering render_with_clraster(const RenderOptions& options, const io::Model& model, const io::Camera& camera,
+                               const DrawState& state, const std::optional<ProgramSource>& program) {
+  ContextOptions context_options;
+  context_options.device = options.device;
+  context_options.memory_cap = options.memory_cap;
+  context_options.tile_size = options.tile_size;
+  context_options.profile = options.stats;
+  Context context(context_options);
+  const VertexBuffer vertices(context, model.positions, model.normals);
+  const IndexBuffer indices(context, model.indices);
+  Framebuffer framebuffer(context, options.width, options.height);
+
+  std::optional<ClrasterModelDraws> material_draws;
+  std::vector<DrawCall> calls;
+  if (program) {
+    std::vector<std::string> warnings;
+    material_draws.emplace(context, compile(context, *program), model,
+                           view_inputs(camera, options.width, options.height), warnings);
+    print_warnings(warnings);
+    calls = material_draws->calls(vertices, indices, state);
+  } else {
+    DrawCall& call = calls.emplace_back();
+    call.vertices = &vertices;
+    call.indices = &indices;
+    call.state = state;
+  }
+
+  Rendering rendering;
+  DrawStats frame_stats;
+  rendering.times = time_frames(options.frames, [&] {
+    framebuffer.clear({0, 0, 0, 1}, 1.0f);
+    frame_stats = {};
+    for (const DrawCall& call : calls) accumulate(frame_stats, framebuffer.draw(call));
+    context.finish();
+  });
+  rendering.image = framebuffer.read_color();
+  const StageTimes& stage = frame_stats.stage_times;
+  rendering.stats = {{"backend", "clraster"},
+                     {"device", context.device().name},
+                     {"draws", calls.size()},
+                     {"triangles_dropped", frame_stats.triangles_dropped},
+                     {"chunks", frame_stats.chunks},
+                     {"tile_triangle_pairs", frame_stats.tile_triangle_pairs},
+                     {"peak_memory_bytes", frame_stats.peak_memory_bytes},
+                     {"stage_ms",
+                      {{"vertex", stage.vertex_ms},
+                       {"setup", stage.setup_ms},
+                       {"binning", stage.binning_ms},
+                       {"raster", stage.raster_ms},
+                       {"other", stage.other_ms}}}};
+  return rendering;
+}
+
+Rendering render_with_gl(const RenderOptions& options, const io::Model& model, const io::Camera& camera,
+                         const DrawState& state) {
+  oracle::GlRenderer gl(options.width, options.height);
+  std::optional<oracle::GlMesh> mesh;
+  std::optional<GlMaterialDraws> material_draws;
+  if (draws_materials(options)) {
+    std::vector<std::string> warnings;
+    material_draws.emplace(model, view_inputs(camera, options.width, options.height), warnings);
+    print_warnings(warnings);
+  } else {
+    mesh.emplace(model.positions, model.normals, model.indices);
+  }
+
+  Rendering rendering;
+  rendering.times = time_frames(options.frames, [&] {
+    gl.clear({0, 0, 0, 1}, 1.0f);
+    if (material_draws) {
+      material_draws->draw(gl, state);
+    } else {
+      gl.draw(*mesh, 0, kAllElements, state);
+    }
+    gl.finish();
+  });
+  rendering.image = gl.read_color();
+  // OpenGL does not say how it drew: clraster's own counters are null.
+  rendering.stats = {{"backend", "gl"},
+                     {"device", gl.renderer()},
+                     {"draws", material_draws ? material_draws->draw_count() : 1},
+                     {"triangles_dropped", nullptr},
+                     {"chunks", nullptr},
+                     {"tile_triangle_pairs", nullptr},
+                     {"peak_memory_bytes", nullptr},
+                     {"stage_ms", nullptr}};
+  return rendering;
 }
 
 }  // namespace
@@ -98,71 +280,30 @@ io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere&
 }
 
 int render(const RenderOptions& options) {
+  if (!options.program.empty() && options.backend == Backend::Gl) {
+    throw InvalidArgument("--program " + options.program +
+                          ": the gl backend cannot run OpenCL C programs (it draws the --shading modes, material "
+                          "included); use --backend clraster");
+  }
   check_output_writable(options.output);
-  std::vector<std::string> warnings;
-  const io::Mesh mesh = options.model.empty() ? make_demo_scene() : io::load_model(options.model, warnings);
-  for (const std::string& warning : warnings) std::cerr << "clraster: warning: " << warning << '\n';
-  const io::BoundingSphere bounds = io::bounding_sphere(mesh);
+  // Before the model is loaded: a program the command line cannot serve is refused at once.
+  std::optional<ProgramSource> program;
+  if (options.backend == Backend::Clraster && draws_materials(options)) program = contract_program(options);
+  const io::Model model = load_scene(options);
+  const io::BoundingSphere bounds = io::bounding_sphere(model);
   const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
   const io::Camera camera = choose_camera(
       options, bounds,
       options.model.empty() ? demo_camera(options.fov_degrees) : io::fit_camera(bounds, aspect, options.fov_degrees));
   const DrawState state = make_state(options, camera);
-
-  nlohmann::json stats;
-  Image image;
-  FrameTimes times;
-  if (options.backend == Backend::Clraster) {
-    ContextOptions context_options;
-    context_options.device = options.device;
-    context_options.memory_cap = options.memory_cap;
-    context_options.tile_size = options.tile_size;
-    context_options.profile = options.stats;
-    Context context(context_options);
-    const VertexBuffer vertices(context, mesh.positions, mesh.normals);
-    const IndexBuffer indices(context, mesh.indices);
-    Framebuffer framebuffer(context, options.width, options.height);
-    DrawCall call;
-    call.vertices = &vertices;
-    call.indices = &indices;
-    call.state = state;
-    DrawStats draw_stats;
-    times = time_frames(options.frames, [&] {
-      framebuffer.clear({0, 0, 0, 1}, 1.0f);
-      draw_stats = framebuffer.draw(call);
-      context.finish();
-    });
-    image = framebuffer.read_color();
-    const StageTimes& stage = draw_stats.stage_times;
-    stats = {{"backend", "clraster"},
-             {"device", context.device().name},
-             {"triangles_dropped", draw_stats.triangles_dropped},
-             {"chunks", draw_stats.chunks},
-             {"tile_triangle_pairs", draw_stats.tile_triangle_pairs},
-             {"peak_memory_bytes", draw_stats.peak_memory_bytes},
-             {"stage_ms",
-              {{"vertex", stage.vertex_ms},
-               {"setup", stage.setup_ms},
-               {"binning", stage.binning_ms},
-               {"raster", stage.raster_ms},
-               {"other", stage.other_ms}}}};
-  } else {
-    const oracle::GlMesh gl_mesh(mesh.positions, mesh.normals, mesh.indices);
-    oracle::GlRenderer gl(options.width, options.height);
-    times = time_frames(options.frames, [&] {
-      gl.clear({0, 0, 0, 1}, 1.0f);
-      gl.draw(gl_mesh, 0, kAllElements, state);
-      gl.finish();
-    });
-    image = gl.read_color();
-    // OpenGL does not say how it drew: clraster's own counters are null.
-    stats = {{"backend", "gl"},     {"device", gl.renderer()},       {"triangles_dropped", nullptr},
-             {"chunks", nullptr}, {"tile_triangle_pairs", nullptr}, {"peak_memory_bytes", nullptr},
-             {"stage_ms", nullptr}};
-  }
-  io::save_png(options.output, image);
+  const Rendering rendering = options.backend == Backend::Clraster
+                                  ? render_with_clraster(options, model, camera, state, program)
+                                  : render_with_gl(options, model, camera, state);
+  io::save_png(options.output, rendering.image);
 
   if (options.stats) {
+    const FrameTimes& times = rendering.times;
+    nlohmann::json stats = rendering.stats;
     stats["first_frame_ms"] = times.first_ms;
     // Without timed frames (--frames 0) there is no median or minimum to report: null.
     stats["median_ms"] = nullptr;
@@ -174,7 +315,7 @@ int render(const RenderOptions& options) {
       stats["median_ms"] = sorted.size() % 2 ? sorted[middle] : (sorted[middle - 1] + sorted[middle]) / 2;
       stats["min_ms"] = sorted.front();
     }
-    stats["triangles"] = mesh.triangle_count();
+    stats["triangles"] = model.triangle_count();
     stats["width"] = options.width;
     stats["height"] = options.height;
     stats["frames"] = options.frames;

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
 
 namespace clraster::io {
@@ -37,22 +38,42 @@ struct PngSink {
   }
 };
 
+using Pixels = std::unique_ptr<stbi_uc, decltype(&stbi_image_free)>;
+
+// What stbi_load* decoded as four channels (null when it failed).
+struct Decoded {
+  Pixels pixels{nullptr, &stbi_image_free};
+  int width = 0, height = 0;
+
+  Image image() const { return Image{width, height, {pixels.get(), pixels.get() + std::size_t(width) * height * 4}}; }
+};
+
 }  // namespace
 
 Image load_png(const std::string& path) {
   File file = open_or_throw(path, "rb", "read");
-  int width = 0, height = 0, channels_in_file = 0;
-  std::unique_ptr<stbi_uc, decltype(&stbi_image_free)> pixels(
-      stbi_load_from_file(file.get(), &width, &height, &channels_in_file, 4), &stbi_image_free);
-  if (!pixels) {
+  Decoded decoded;
+  int channels_in_file = 0;
+  decoded.pixels.reset(stbi_load_from_file(file.get(), &decoded.width, &decoded.height, &channels_in_file, 4));
+  if (!decoded.pixels) {
     // A read error (a directory, an I/O error) is the system's to explain; anything else is stb's.
     if (std::ferror(file.get())) throw Error("cannot read " + path + ": " + std::strerror(errno));
     throw Error("cannot decode " + path + ": " + stbi_failure_reason());
   }
+  return decoded.image();
+}
 
-  Image image{width, height, {}};
-  image.rgba.assign(pixels.get(), pixels.get() + std::size_t(width) * height * 4);
-  return image;
+Image decode_image(std::span<const std::byte> encoded, const std::string& name) {
+  if (encoded.size() > std::size_t{std::numeric_limits<int>::max()}) {
+    throw Error("cannot decode " + name + ": " + std::to_string(encoded.size()) + " bytes are too many");
+  }
+  Decoded decoded;
+  int channels_in_file = 0;
+  decoded.pixels.reset(stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(encoded.data()),
+                                             static_cast<int>(encoded.size()), &decoded.width, &decoded.height,
+                                             &channels_in_file, 4));
+  if (!decoded.pixels) throw Error("cannot decode " + name + ": " + stbi_failure_reason());
+  return decoded.image();
 }
 
 void save_png(const std::string& path, const Image& image) {

@@ -1,6 +1,8 @@
 // Reading and writing pictures as files (stb_image / stb_image_write).
 #pragma once
 
+#include <cstddef>
+#include <span>
 #include <string>
 
 #include "clraster/clraster.hpp"
@@ -10,6 +12,10 @@ namespace clraster::io {
 // Reads any image file stb_image understands (PNG, JPEG, BMP, TGA, ...) as RGBA8, rows top to
 // bottom. Throws clraster::Error naming the path and why it could not be read or decoded.
 clraster::Image load_png(const std::string& path);
+
+// The same from an image file's bytes in memory (an image embedded in a model file). Throws
+// clraster::Error naming `name` and why the bytes could not be decoded.
+clraster::Image decode_image(std::span<const std::byte> encoded, const std::string& name);
 
 // Writes an RGBA8 image as PNG, replacing the file. Throws clraster::InvalidArgument when the
 // image's size and pixel data disagree, and clraster::Error naming the path and the system's

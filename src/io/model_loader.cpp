@@ -747,13 +747,15 @@ Material material_of(const aiScene& scene, unsigned scene_index, std::size_t ind
   Material material;
   material.name = source.GetName().C_Str();
   material.base_color_factor = base_color_factor(source);
-  const std::string label =
-      material.name.empty() ? "material " + std::to_string(index) : "material '" + material.name + "'";
-  material.base_color_texture = base_color_texture(source, scene, path, label, warnings);
+  material.base_color_texture = base_color_texture(source, scene, path, material_label(material, index), warnings);
   return material;
 }
 
 }  // namespace
+
+std::string material_label(const Material& material, std::size_t index) {
+  return material.name.empty() ? "material " + std::to_string(index) : "material '" + material.name + "'";
+}
 
 Model load_model(const std::string& path, std::vector<std::string>& warnings) {
   require_readable(path);

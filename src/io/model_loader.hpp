@@ -40,6 +40,9 @@ struct Material {
   std::optional<MaterialTexture> base_color_texture;
 };
 
+// How warnings name model material `index`: "material 'Body'", or "material 3" when it has no name.
+std::string material_label(const Material& material, std::size_t index);
+
 // Consecutive triangles drawn with one material: indices [first_index, first_index + index_count)
 // of the model, as DrawCall::first and DrawCall::count.
 struct ModelPart {

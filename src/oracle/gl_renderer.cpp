@@ -274,6 +274,8 @@ void GlRenderer::draw(const GlMesh& mesh, std::uint32_t first, std::uint32_t cou
   gl::check(data.index_type != 0 ? "glDrawElements" : "glDrawArrays");
 }
 
+void GlRenderer::draw(const GlDrawCall& call) { impl_->target.draw(call); }
+
 Image GlRenderer::read_color() const {
   return Image{width(), height(), top_row_first<std::uint8_t>(impl_->color.read(), std::size_t(width()) * 4)};
 }

@@ -28,6 +28,8 @@
 
 namespace clraster::oracle {
 
+struct GlDrawCall;
+
 // Vertex positions, normals and optional 16- or 32-bit indices in GL buffer objects, uploaded once
 // and drawable by any GlRenderer. positions: x, y, z per vertex; normals: empty (all normals zero)
 // or x, y, z per vertex. Unlike clraster, which checks the indices a draw uses, every index is
@@ -77,6 +79,10 @@ class GlRenderer {
   // shading with a range that is not finite with near < far, and for CompareFunc::Program and
   // BlendEquation::Program (no GL equivalent).
   void draw(const GlMesh& mesh, std::uint32_t first, std::uint32_t count, const DrawState& state);
+
+  // Draws a GlDrawCall (gl_scene.hpp: a GLSL program, its attributes and textures) into this
+  // renderer's attachments, as GlFramebuffer::draw does.
+  void draw(const GlDrawCall& call);
 
   Image read_color() const;               // rows top to bottom
   std::vector<float> read_depth() const;  // rows top to bottom, width * height values

@@ -238,6 +238,12 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       edge_values(&batch[i], x, y, e);
       process_fragment(&batch[i], x, y, e, (pixel_coverage[lane][i / 32] >> (i % 32)) & 1u, &f, tile_color,
                        &tile_depth[lane], &tile_stencil[lane], u);
+      /* What follows the program's last barrier branches per pixel (helper or not, discard, the
+       * tests, blending, the program's own code). Those branches must meet again at a barrier before
+       * the loop goes on: PoCL otherwise takes a branch that leads on toward the next iteration's
+       * barriers as uniform and follows work-item 0's way for the whole group, so every pixel of the
+       * tile was written, or left, as its first pixel was. */
+      barrier(CLK_LOCAL_MEM_FENCE);
     }
 #else
     barrier(CLK_LOCAL_MEM_FENCE);

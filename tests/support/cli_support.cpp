@@ -1,5 +1,7 @@
 #include "support/cli_support.hpp"
 
+#include "io/image_io.hpp"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -164,6 +166,45 @@ CliResult run_executable(const std::string& path, const std::vector<std::string>
                                          << quoted(subject) << "; got " << result;
   }
   return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult mentions(std::string_view text, std::string_view part) {
+  if (text.find(part) != std::string_view::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << quoted(part) << " is not in: " << text;
+}
+
+namespace {
+
+// Only warnings on stderr: each line starts "clraster: warning: ".
+::testing::AssertionResult succeeded_with_warnings(const CliResult& result) {
+  if (result.timed_out || result.signal != 0 || result.exit_code != 0) {
+    return ::testing::AssertionFailure() << "expected exit code 0; got " << result;
+  }
+  for (const std::string_view line : lines_of(result.err)) {
+    if (!line.starts_with("clraster: warning: ")) {
+      return ::testing::AssertionFailure() << "expected only 'clraster: warning: ' lines on stderr; got " << result;
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+Rendered run_render(const std::string& output_name, std::vector<std::string> args,
+                    ::testing::AssertionResult (*check)(const CliResult&)) {
+  const fs::path output = scratch_directory() / output_name;
+  args.insert(args.begin(), {"render", "--output", output.string()});
+  const CliResult result = run_cli(args);
+  EXPECT_TRUE(check(result));
+  return {output, result.exit_code == 0 ? io::load_png(output.string()) : Image{}, result.out, result.err};
+}
+
+}  // namespace
+
+Rendered render(const std::string& output_name, std::vector<std::string> args) {
+  return run_render(output_name, std::move(args), &succeeded);
+}
+
+Rendered render_with_warnings(const std::string& output_name, std::vector<std::string> args) {
+  return run_render(output_name, std::move(args), &succeeded_with_warnings);
 }
 
 const fs::path& scratch_directory() {

@@ -3,6 +3,8 @@
 // failure instead of a lost test run. Also a scratch directory for the files the tests hand it.
 #pragma once
 
+#include "clraster/clraster.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -42,6 +44,24 @@ CliResult run_executable(const std::string& path, const std::vector<std::string>
 // Failed as the command line must on bad input: exited by itself with a code in 1..127 and said
 // why on exactly one stderr line that starts "clraster: error: " and mentions `subject`.
 ::testing::AssertionResult failed_with_error(const CliResult& result, std::string_view subject);
+
+// "'part' is not in: text" unless `text` contains `part`.
+::testing::AssertionResult mentions(std::string_view text, std::string_view part);
+
+// What `clraster render --output scratch_directory()/output_name args...` made.
+struct Rendered {
+  std::filesystem::path file;
+  Image picture;    // as read back from the file; empty when the render failed
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+// Runs `clraster render --output scratch_directory()/output_name args...`, which must succeed (a
+// failure fails the test): exit code 0 and nothing on stderr.
+Rendered render(const std::string& output_name, std::vector<std::string> args);
+
+// The same for a render that may warn: exit code 0, and every stderr line a "clraster: warning: ".
+Rendered render_with_warnings(const std::string& output_name, std::vector<std::string> args);
 
 // A directory of this test process's own, removed when the process ends.
 const std::filesystem::path& scratch_directory();

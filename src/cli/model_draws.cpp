@@ -1,0 +1,149 @@
+#include "cli/model_draws.hpp"
+
+#include "io/image_io.hpp"
+
+#include <cstring>
+
+namespace clraster::cli {
+namespace {
+
+// The texel of the texture that parts without an image are drawn with: sampled as 1, it leaves the
+// base colour factor as it is.
+constexpr std::array<std::byte, 4> kWhiteTexel{std::byte{255}, std::byte{255}, std::byte{255}, std::byte{255}};
+
+// The model's texture coordinates, or (0, 0) for every vertex when it has none.
+std::vector<float> texcoords_or_zeros(const io::Model& model) {
+  return model.texcoords.empty() ? std::vector<float>(2 * model.vertex_count(), 0.0f) : model.texcoords;
+}
+
+// The GLSL equivalent of programs/material.cl: keep the two in step (tests/test_cli_programs.cpp
+// compares what they draw).
+constexpr const char* kMaterialVertexShader = R"(#version 450 core
+in vec3 position;
+in vec3 normal;
+in vec2 uv;
+uniform mat4 mvp;
+uniform mat4 normal_matrix;
+out vec3 eye_normal;
+out vec2 texcoord;
+
+void main() {
+  gl_Position = mvp * vec4(position, 1.0);
+  eye_normal = mat3(normal_matrix) * normal;
+  texcoord = uv;
+}
+)";
+
+constexpr const char* kMaterialFragmentShader = R"(#version 450 core
+in vec3 eye_normal;
+in vec2 texcoord;
+uniform vec4 base_color;
+uniform vec3 light_direction;
+uniform sampler2D base_color_texture;
+layout(location = 0) out vec4 color;
+
+const float AMBIENT = 0.2;
+
+void main() {
+  vec4 base = texture(base_color_texture, texcoord) * base_color;
+  float length_of_normal = length(eye_normal);
+  float diffuse = length_of_normal > 0.0 ? abs(dot(eye_normal / length_of_normal, light_direction)) : 0.0;
+  color = vec4(base.rgb * (AMBIENT + (1.0 - AMBIENT) * diffuse), 1.0);
+}
+)";
+
+// The uniforms of the GLSL material program that stay the same for every part.
+constexpr const char* kGlViewUniforms[] = {"mvp", "normal_matrix", "light_direction"};
+
+// A picture's texels as a texture holds them: the bottom row (t = 0) first.
+std::vector<std::byte> bottom_row_first(const Image& image) {
+  const std::size_t row_bytes = std::size_t(image.width) * 4;
+  std::vector<std::byte> texels(image.rgba.size());
+  for (int row = 0; row < image.height; ++row) {
+    std::memcpy(texels.data() + std::size_t(image.height - 1 - row) * row_bytes,
+                image.rgba.data() + std::size_t(row) * row_bytes, row_bytes);
+  }
+  return texels;
+}
+
+}  // namespace
+
+// ---- clraster -----------------------------------------------------------------------------------
+
+ClrasterModelDraws::ClrasterModelDraws(Context& context, Program program, const io::Model& model,
+                                       const ProgramInputs& view, std::vector<std::string>& warnings)
+    : program_(std::move(program)), parts_(model.parts) {
+  if (declares_attribute(program_.interface(), kUvAttribute)) uvs_.emplace(context, texcoords_or_zeros(model));
+  if (declares_base_color_texture(program_.interface())) {
+    // RGBA8 (srgb false) and flipped vertically, as MaterialTextures::Loader says.
+    textures_.emplace(
+        model, Texture(context, 1, 1, Format::RGBA8, kWhiteTexel, false),
+        [&](const io::MaterialTexture& image) {
+          return image.embedded() ? Texture::decode(context, image.encoded, false, true, image_name(image))
+                                  : Texture::load(context, image.file, false, true);
+        },
+        warnings);
+  }
+  for (const io::ModelPart& part : parts_) {
+    ProgramInputs inputs = view;
+    inputs.base_color = model.materials.at(part.material).base_color_factor;
+    Bindings& bindings = bindings_.emplace_back(program_);
+    for (const ProgramVariable& uniform : program_.interface().uniforms) {
+      bindings.set_bytes(uniform.name, std::as_bytes(inputs.uniform(uniform.name)));
+    }
+    if (textures_) bindings.set_texture(kBaseColorTexture, (*textures_)[part.material], Sampler{});
+  }
+}
+
+std::vector<DrawCall> ClrasterModelDraws::calls(const VertexBuffer& vertices, const IndexBuffer& indices,
+                                                const DrawState& state) const {
+  std::vector<DrawCall> calls;
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    DrawCall& call = calls.emplace_back();
+    call.vertices = &vertices;
+    call.indices = &indices;
+    call.first = parts_[i].first_index;
+    call.count = parts_[i].index_count;
+    call.state = state;
+    call.program = &program_;
+    call.bindings = &bindings_[i];
+    if (uvs_) call.attributes.push_back({kUvAttribute, &*uvs_, AttributeType::Float2});
+  }
+  return calls;
+}
+
+// ---- OpenGL -------------------------------------------------------------------------------------
+
+GlMaterialDraws::GlMaterialDraws(const io::Model& model, const ProgramInputs& view, std::vector<std::string>& warnings)
+    : model_(model),
+      uvs_(texcoords_or_zeros(model)),
+      program_(kMaterialVertexShader, kMaterialFragmentShader, "material program (GLSL)"),
+      textures_(
+          model, oracle::GlTexture(1, 1, Format::RGBA8, kWhiteTexel, false),
+          [](const io::MaterialTexture& image) {
+            const Image decoded =
+                image.embedded() ? io::decode_image(image.encoded, image_name(image)) : io::load_png(image.file);
+            return oracle::GlTexture(decoded.width, decoded.height, Format::RGBA8, bottom_row_first(decoded), true);
+          },
+          warnings) {
+  for (const char* name : kGlViewUniforms) program_.set(name, view.uniform(name));
+}
+
+void GlMaterialDraws::draw(oracle::GlRenderer& target, const DrawState& state) {
+  for (const io::ModelPart& part : model_.parts) {
+    program_.set("base_color", std::span<const float>(model_.materials.at(part.material).base_color_factor));
+    program_.set_texture(kBaseColorTexture, textures_[part.material], Sampler{});
+    oracle::GlDrawCall call;
+    call.program = &program_;
+    call.attributes = {{kPositionAttribute, std::as_bytes(std::span(model_.positions)), AttributeType::Float3},
+                       {kNormalAttribute, std::as_bytes(std::span(model_.normals)), AttributeType::Float3},
+                       {kUvAttribute, std::as_bytes(std::span(uvs_)), AttributeType::Float2}};
+    call.indices = std::span<const std::uint32_t>(model_.indices);
+    call.first = part.first_index;
+    call.count = part.index_count;
+    call.state = state;
+    target.draw(call);
+  }
+}
+
+}  // namespace clraster::cli

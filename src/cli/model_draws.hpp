@@ -1,0 +1,58 @@
+// A model drawn part by part with a program that follows the command line's contract
+// (program_contract.hpp): each part with its material's base colour factor and texture. One class
+// per backend: clraster with any such program (the built-in material program or a --program file),
+// and the OpenGL oracle with the GLSL equivalent of the material program.
+#pragma once
+
+#include "cli/material_textures.hpp"
+#include "cli/program_contract.hpp"
+#include "clraster/clraster.hpp"
+#include "io/model_loader.hpp"
+#include "oracle/gl_renderer.hpp"
+#include "oracle/gl_scene.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace clraster::cli {
+
+class ClrasterModelDraws {
+ public:
+  // Binds what `program`, which follows the contract (check_contract), declares: `view`'s uniforms,
+  // each part's base colour factor, and, when it declares base_color_texture, each part's texture
+  // (materials' images that cannot be used add a line to `warnings`, as MaterialTextures says).
+  ClrasterModelDraws(Context& context, Program program, const io::Model& model, const ProgramInputs& view,
+                     std::vector<std::string>& warnings);
+
+  // One draw per part of the model, whose positions, normals and indices are `vertices` and
+  // `indices`, with `state`'s fixed-function state. The draws refer to this object.
+  std::vector<DrawCall> calls(const VertexBuffer& vertices, const IndexBuffer& indices, const DrawState& state) const;
+
+ private:
+  Program program_;
+  std::vector<io::ModelPart> parts_;
+  std::optional<Buffer> uvs_;                          // when the program declares them
+  std::optional<MaterialTextures<Texture>> textures_;  // when the program declares base_color_texture
+  std::vector<Bindings> bindings_;                     // per part
+};
+
+class GlMaterialDraws {
+ public:
+  // The GLSL material program with `view`'s uniforms, and the materials' textures (warnings as
+  // MaterialTextures says). `model` must outlive this object.
+  GlMaterialDraws(const io::Model& model, const ProgramInputs& view, std::vector<std::string>& warnings);
+
+  // Draws every part, in order, with `state`'s fixed-function state.
+  void draw(oracle::GlRenderer& target, const DrawState& state);
+
+  std::size_t draw_count() const { return model_.parts.size(); }
+
+ private:
+  const io::Model& model_;
+  std::vector<float> uvs_;  // the model's texture coordinates, or zeros
+  oracle::GlProgram program_;
+  MaterialTextures<oracle::GlTexture> textures_;
+};
+
+}  // namespace clraster::cli
