@@ -193,6 +193,20 @@ __kernel void texture_downsample(__global uchar* data, __constant const TextureD
   const int x = id % target.x;
   const int y = id / target.x;
   const float2 centre = ((float2)((float)x, (float)y) + 0.5f) / convert_float2(target);
-  const float4 value = clr_filter_level(t, centre, source_level, CLR_FILTER_LINEAR);
+  float4 value = clr_filter_level(t, centre, source_level, CLR_FILTER_LINEAR);
+  const int2 source = clr_texture_size(t, source_level);
+  const int format = desc->format;
+  if ((format == CLR_FORMAT_R8 || format == CLR_FORMAT_RG8 || format == CLR_FORMAT_RGBA8) && all(source == 2 * target)) {
+    /* llvmpipe's glGenerateMipmap blends 8-bit texels in 8-bit arithmetic, each of its two linear
+     * steps (along x, then along y) rounding halves up; its levels are what OpenGL users see, so
+     * halving sides get the same bytes here. */
+    const uint4 t00 = convert_uint4_rte(clr_texel_fetch(t, (int2)(2 * x, 2 * y), source_level) * 255.0f);
+    const uint4 t10 = convert_uint4_rte(clr_texel_fetch(t, (int2)(2 * x + 1, 2 * y), source_level) * 255.0f);
+    const uint4 t01 = convert_uint4_rte(clr_texel_fetch(t, (int2)(2 * x, 2 * y + 1), source_level) * 255.0f);
+    const uint4 t11 = convert_uint4_rte(clr_texel_fetch(t, (int2)(2 * x + 1, 2 * y + 1), source_level) * 255.0f);
+    const uint4 bottom = (t00 + t10 + 1u) >> 1;
+    const uint4 top = (t01 + t11 + 1u) >> 1;
+    value = convert_float4((bottom + top + 1u) >> 1) / 255.0f;
+  }
   clr_store_texel_float(desc->format, data, clr_texel_index(t, source_level + 1, target, x, y), value);
 }
