@@ -41,12 +41,13 @@ Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::
       sort_(core, scan_) {}
 
 void Pipeline::upload(cl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
-  bytes = std::max<std::size_t>(bytes, 16);  // OpenCL has no empty buffers
-  if (bytes > capacity) {
-    buffer = cl::Buffer(context_, CL_MEM_READ_ONLY, bytes);
-    capacity = bytes;
+  const std::size_t size = std::max<std::size_t>(bytes, 16);  // OpenCL has no empty buffers
+  if (size > capacity) {
+    buffer = cl::Buffer(context_, CL_MEM_READ_ONLY, size);
+    capacity = size;
   }
-  if (data != nullptr) queue_.get().enqueueWriteBuffer(buffer, CL_FALSE, 0, bytes, data, nullptr, queue_.event());
+  // Blocking: the caller's data need not outlive the call.
+  if (bytes > 0) queue_.get().enqueueWriteBuffer(buffer, CL_TRUE, 0, bytes, data, nullptr, queue_.event());
 }
 
 std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count) {
