@@ -45,6 +45,12 @@
 /* The tile size (pixels per side, one work-group per tile) is a context option; its default is
  * clraster::kDefaultTileSize in clraster.hpp, as is the default memory cap. */
 #define CLR_RASTER_TRIANGLE_BATCH 64 /* set-up triangles staged in local memory at a time */
+/* Work-items per tile work-group, for programs without quad shading (those take one per pixel). GPUs
+ * get one per pixel too. A CPU device gets CLR_RASTER_CPU_ITEMS, which loop over the tile's pixels
+ * themselves: PoCL runs a work-group as loops over its work-items that it cannot vectorize around
+ * the per-triangle loops, and saves every live value per work-item at each barrier, so one item
+ * walking the tile (its loops vectorized by the compiler where they allow it) is faster (measured). */
+#define CLR_RASTER_CPU_ITEMS 1
 
 /* ---- Memory budget -----------------------------------------------------------------------------
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */

@@ -103,11 +103,7 @@ std::string describe(const Rgba& c) {
 
 class FragmentOpsTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    ContextState& state = *shared_context().impl().state;
-    program_ = state.programs.get("fragment op unit tests", builtin_stage_program() + kTestKernels,
-                                  "-cl-std=CL1.2 -DCLR_TILE_SIZE=16");
-  }
+  void SetUp() override { program_ = build_test_program("fragment op unit tests", builtin_stage_program() + kTestKernels); }
 
   ContextState& state() { return *shared_context().impl().state; }
 
@@ -138,9 +134,8 @@ class FragmentOpsTest : public ::testing::Test {
     state().queue.get().finish();
   }
 
-  static cl::Program program_;
+  cl::Program program_;
 };
-cl::Program FragmentOpsTest::program_;
 
 // ---- Comparisons ------------------------------------------------------------------------------------
 

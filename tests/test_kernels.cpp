@@ -62,11 +62,7 @@ __kernel void test_edge_rule(__global const int* edges, uint count, __global int
 
 class KernelTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    ContextState& state = *shared_context().impl().state;
-    program_ = state.programs.get("kernel unit tests", builtin_stage_program() + kTestKernels,
-                                  "-cl-std=CL1.2 -DCLR_TILE_SIZE=16");
-  }
+  void SetUp() override { program_ = build_test_program("kernel unit tests", builtin_stage_program() + kTestKernels); }
 
   ContextState& state() { return *shared_context().impl().state; }
 
@@ -92,9 +88,8 @@ class KernelTest : public ::testing::Test {
     state().queue.get().finish();
   }
 
-  static cl::Program program_;
+  cl::Program program_;
 };
-cl::Program KernelTest::program_;
 
 // ---- Primitive assembly ---------------------------------------------------------------------------
 

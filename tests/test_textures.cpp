@@ -97,10 +97,7 @@ std::string error_of(Action&& action) {
 
 class TextureTest : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    program_ = state().programs.get("texture unit tests", cl_sources::core_program() + kTestKernels,
-                                    "-cl-std=CL1.2 -DCLR_TILE_SIZE=8");
-  }
+  void SetUp() override { program_ = build_test_program("texture unit tests", cl_sources::core_program() + kTestKernels); }
 
   static ContextState& state() { return *shared_context().impl().state; }
 
@@ -181,9 +178,8 @@ class TextureTest : public ::testing::Test {
     return sample(texture, sampler, {Query{s, t, lod}}, false)[0];
   }
 
-  static cl::Program program_;
+  cl::Program program_;
 };
-cl::Program TextureTest::program_;
 
 Texture float_texture(int width, int height, const std::vector<Texel>& texels, Format format = Format::RGBA32F) {
   return Texture(shared_context(), width, height, format, bytes_of(texels), false);

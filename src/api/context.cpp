@@ -44,7 +44,10 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
 }
 
 std::string ContextState::build_options() const {
-  return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size);
+  const bool cpu = (device.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
+  const int raster_items = cpu ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
+  return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size) +
+         " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items);
 }
 
 const cl::Program& ContextState::core_program() {

@@ -268,7 +268,7 @@ void Pipeline::bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk
 
     const RenderTarget& target = *frame.target;
     stages::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x,
-                                frame.tiles_y, tile_size_, static_cast<std::uint32_t>(target.width), uniforms_,
+                                frame.tiles_y, static_cast<std::uint32_t>(target.width), uniforms_,
                                 target.depth_stencil() != nullptr ? target.depth_stencil : placeholder_, target.stencil_offset,
                                 {}, frame.buffers->resources};
     for (std::size_t k = 0; k < frame.source->program->interface.outputs.size(); ++k) {

@@ -1,24 +1,36 @@
 /* raster.cl: rasterization, the fragment program and the per-fragment operations.
  *
- * One work-group per screen tile of CLR_TILE_SIZE^2 pixels, one work-item per pixel. The tile's
- * colour attachments, depth and stencil live in local memory from the first triangle to the last,
- * and the group walks its tile's triangles in primitive order, staging CLR_RASTER_TRIANGLE_BATCH of
- * them at a time in local memory too. Each work-item is the only one to touch its pixel's
- * attachments, so there are no atomics on them and every run gives the same result.
+ * One work-group per screen tile of CLR_TILE_SIZE^2 pixels. The tile's colour attachments, depth and
+ * stencil live in local memory from the first triangle to the last, and the group walks its tile's
+ * triangles in primitive order, staging CLR_RASTER_TRIANGLE_BATCH of them at a time in local memory
+ * with each one's coverage of the tile as a bit mask (coverage_mask). Each pixel belongs to one
+ * work-item, the only one to touch its attachments, so there are no atomics on them and every run
+ * gives the same result. How many work-items a group has is the device's choice (CLR_RASTER_GROUP):
+ * one per pixel on GPUs, few on CPUs, each then shading its pixels one after the other, visiting
+ * only the pixels each triangle's mask has.
  *
- * Per fragment, in OpenGL's order: coverage, the fragment program, the stencil test, the depth test
- * (with their stencil operations and depth write), then blending, the write mask and conversion to
- * the attachment's format, for each output. A program that neither discards nor writes depth nor
- * takes derivatives has its tests run first (early fragment tests), so hidden fragments skip it.
+ * Per fragment, in OpenGL's order: the fragment program, the stencil test, the depth test (with
+ * their stencil operations and depth write), then blending, the write mask and conversion to the
+ * attachment's format, for each output. A program that neither discards nor writes depth nor takes
+ * derivatives has its tests run first (early fragment tests), so hidden fragments skip it.
  *
  * Tile storage: a colour attachment's pixel is a uint4 holding the decoded value exactly as the
  * attachment stores it (float4 bits for normalized and float formats, already quantized to the
- * format; int4 or uint4 for integer ones). Programs that take derivatives are shaded in 2x2 quads:
- * every work-item of the tile runs the program for every triangle that covers any pixel of the tile,
- * the uncovered ones as helpers whose results are thrown away (prelude.cl exchanges the values). */
+ * format; int4 or uint4 for integer ones). Programs that take derivatives are shaded in 2x2 quads,
+ * one work-item per pixel: every work-item runs the program for every triangle that covers any
+ * pixel of the tile, the uncovered ones as helpers whose results are thrown away (prelude.cl
+ * exchanges the values). */
 
 #define CLR_TILE_PIXELS (CLR_TILE_SIZE * CLR_TILE_SIZE)
 #define CLR_TILE_TARGETS (CLR_NUM_OUTPUTS > 0 ? CLR_NUM_OUTPUTS : 1)
+#define CLR_TILE_MASK_WORDS (CLR_TILE_PIXELS / 64) /* 64-bit words of one triangle's coverage of a tile */
+/* Quad shading exchanges values between the pixels of a quad at barriers: one work-item per pixel.
+ * Other programs take the context's shape (clr_limits.h). */
+#if CLR_QUAD_SHADING
+#define CLR_RASTER_GROUP CLR_TILE_PIXELS
+#else
+#define CLR_RASTER_GROUP CLR_RASTER_GROUP_SIZE
+#endif
 
 /* Edge functions of the pixel centre (x, y): e[k] = 2 * area * screen barycentric k. */
 inline void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
@@ -27,16 +39,56 @@ inline void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
   for (int k = 0; k < 3; ++k) e[k] = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
 }
 
-inline bool triangle_covers(const __local SetupTriangle* t, int x, int y, long* e) {
-  /* The bounding box rejects most pixels of a tile with a few 32-bit comparisons. */
-  if (x < (int)(t->pixel_min & 0xffffu) || x > (int)(t->pixel_max & 0xffffu) || y < (int)(t->pixel_min >> 16) ||
-      y > (int)(t->pixel_max >> 16)) {
-    return false;
+/* Lanes of `inside` (each 0 or -1) as the bits of a byte, lane 0 in bit 0. */
+inline uint lanes_to_bits(long8 inside) {
+  const ulong8 bits = as_ulong8(inside) & (ulong8)(1, 2, 4, 8, 16, 32, 64, 128);
+  const ulong4 halves = bits.lo | bits.hi;
+  const ulong2 quarters = halves.lo | halves.hi;
+  return (uint)(quarters.lo | quarters.hi);
+}
+
+/* Which pixels of the tile whose first pixel is `origin` the triangle covers: bit p of the mask (word
+ * p / 64) is the tile's pixel p, row-major. A pixel centre is covered when every edge function is
+ * positive there, or zero on an edge that includes its centres (SetupTriangle's flags): E > 0 is
+ * E - 1 >= 0 in integers, so subtracting 1 from the edges without the flag makes the test a sign
+ * test, and one sign test of the three values OR-ed together tests them all. Eight pixels of a row
+ * at a time, in 64-bit vectors: exact, and what vector units (and PoCL's compiler) do best. */
+inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local ulong* mask) {
+  for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) mask[w] = 0;
+  const int2 lo = max((int2)((int)(t->pixel_min & 0xffffu), (int)(t->pixel_min >> 16)), origin);
+  const int2 hi = min((int2)((int)(t->pixel_max & 0xffffu), (int)(t->pixel_max >> 16)), origin + (CLR_TILE_SIZE - 1));
+  if (lo.x > hi.x || lo.y > hi.y) return;
+  long c[3];
+  for (int k = 0; k < 3; ++k) c[k] = t->edge_c[k] - ((t->flags >> k) & 1u ? 0 : 1);
+  for (int chunk = (lo.x - origin.x) / 8; chunk <= (hi.x - origin.x) / 8; ++chunk) {
+    const int8 xs = (int8)(origin.x + chunk * 8) + (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    const long8 X = convert_long8(xs) << CLR_SUBPIXEL_BITS;
+    const long8 in_box = convert_long8(xs >= (int8)(lo.x) && xs <= (int8)(hi.x));
+    const long8 ax0 = (long8)((long)t->edge_a[0]) * X;
+    const long8 ax1 = (long8)((long)t->edge_a[1]) * X;
+    const long8 ax2 = (long8)((long)t->edge_a[2]) * X;
+    for (int y = lo.y; y <= hi.y; ++y) {
+      const long Y = (long)y << CLR_SUBPIXEL_BITS;
+      const long8 e0 = ax0 + ((long)t->edge_b[0] * Y + c[0]);
+      const long8 e1 = ax1 + ((long)t->edge_b[1] * Y + c[1]);
+      const long8 e2 = ax2 + ((long)t->edge_b[2] * Y + c[2]);
+      const uint bits = lanes_to_bits(((e0 | e1 | e2) >= (long8)(0)) & in_box);
+      const int first = (y - origin.y) * CLR_TILE_SIZE + chunk * 8;
+      mask[first / 64] |= (ulong)bits << (first % 64);
+    }
   }
-  edge_values(t, x, y, e);
-  bool covered = true;
-  for (int k = 0; k < 3; ++k) covered = covered && (e[k] > 0 || (e[k] == 0 && (t->flags & (1u << k))));
-  return covered;
+}
+
+/* Bit p of word w set where the tile's pixel 64 w + p is this work-item's: pixel p belongs to
+ * work-item p % CLR_RASTER_GROUP. */
+inline ulong own_pixels(uint word, uint item) {
+#if CLR_RASTER_GROUP >= 64
+  return word == item / 64 ? 1ul << (item % 64) : 0ul;
+#else
+  ulong bits = 0;
+  for (uint p = item; p < 64; p += CLR_RASTER_GROUP) bits |= 1ul << p;
+  return bits;
+#endif
 }
 
 /* Edge k's function at (X, Y) for the vertices before snapping, from its value e for the snapped ones. */
@@ -123,9 +175,11 @@ void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uin
 /* One fragment of triangle t at this work-item's pixel (x, y) with edge values e. `live`: the
  * triangle covers the pixel and the pixel is writable; otherwise this is a helper invocation
  * (quad shading only). */
-inline void process_fragment(const __local SetupTriangle* t, int x, int y, const long* e, bool live, clr_fragment* f,
+inline void process_fragment(const __local SetupTriangle* t, int x, int y, uint lane, bool live, clr_fragment* f,
                              __local uint4* tile_color, __local float* depth, __local uchar* stencil,
                              __constant const DrawUniforms* u) {
+  long e[3];
+  edge_values(t, x, y, e);
   /* Barycentrics of the unsnapped triangle (see SetupTriangle), as llvmpipe interpolates: those of
    * the snapped one are off by up to 1/512 pixel over the distance to an edge, which perspective
    * magnifies (1e-3 of the texture coordinates near a horizon). */
@@ -146,6 +200,7 @@ inline void process_fragment(const __local SetupTriangle* t, int x, int y, const
   f->front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
   f->helper = !live;
   f->discarded = false;
+  f->clr_lane = lane;
   const clr_outputs no_outputs = {0};
   f->out = no_outputs;
   clr_interpolate_varyings(t, pw, norm, l, &f->in);
@@ -158,54 +213,53 @@ inline void process_fragment(const __local SetupTriangle* t, int x, int y, const
   f->frag_depth = clamp(f->frag_depth, 0.0f, 1.0f);
   if (!fragment_tests(f, u, depth, stencil)) return;
 #endif
-  clr_write_outputs(f, tile_color, f->clr_lane, u);
+  clr_write_outputs(f, tile_color, lane, u);
 }
 
-__kernel __attribute__((reqd_work_group_size(CLR_TILE_SIZE, CLR_TILE_SIZE, 1)))
+__kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1)))
 void raster_tiles(__global const SetupTriangle* records, __global const SetupTriangle* overflow,
                   __global const uint* sorted_triangles, __global const uint* tile_ranges, uint tiles_x,
                   uint framebuffer_width, __constant const DrawUniforms* u, __global uchar* depth_stencil,
                   uint stencil_offset CLR_TARGET_PARAMS CLR_RESOURCE_PARAMS) {
   __local SetupTriangle batch[CLR_RASTER_TRIANGLE_BATCH];
+  __local ulong masks[CLR_RASTER_TRIANGLE_BATCH][CLR_TILE_MASK_WORDS]; /* coverage_mask of each */
   __local uint4 tile_color[CLR_TILE_TARGETS * CLR_TILE_PIXELS];
   __local float tile_depth[CLR_TILE_PIXELS];
   __local uchar tile_stencil[CLR_TILE_PIXELS];
 #if CLR_QUAD_SHADING
   __local float4 quad_exchange[CLR_TILE_PIXELS];
-  __local uint group_coverage[CLR_RASTER_TRIANGLE_BATCH / 32]; /* bit i: triangle i covers a pixel */
-  /* Bit i: triangle i covers this pixel. In local memory, not in a private array: PoCL 3.1 keeps one
-   * copy for the whole group of a private array that lives across the fragment program's barriers,
-   * and with the coverage bits (or the edge values) in one, every pixel of a tile was shaded as live,
-   * or as a helper, as one of them was. Private arrays here live between two barriers only. */
-  __local uint pixel_coverage[CLR_TILE_PIXELS][CLR_RASTER_TRIANGLE_BATCH / 32];
 #endif
-  const uint tile = get_group_id(1) * tiles_x + get_group_id(0);
+  const uint tile = get_group_id(0);
   const uint begin = tile_ranges[2 * tile];
   const uint end = tile_ranges[2 * tile + 1];
   if (begin == end) return; /* the same for the whole group: no barrier is skipped by only some items */
 
-  const int x = get_global_id(0);
-  const int y = get_global_id(1);
-  const bool writable = x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3];
-  const uint pixel = (uint)y * framebuffer_width + (uint)x;
-  const uint lane = get_local_id(1) * CLR_TILE_SIZE + get_local_id(0);
+  const int2 origin = (int2)((int)(tile % tiles_x), (int)(tile / tiles_x)) * CLR_TILE_SIZE;
+  const uint item = get_local_id(0);
   __global float* depth = (__global float*)depth_stencil;
   __global uchar* stencil = depth_stencil + stencil_offset;
 #if CLR_NUM_OUTPUTS > 0 /* a program without outputs (a depth-only pass) has no colour targets */
   __global uchar* const targets[CLR_NUM_OUTPUTS] = CLR_TARGETS;
-  for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
-    const int format = u->target_format[k];
-    tile_color[k * CLR_TILE_PIXELS + lane] =
-        writable && format >= 0 ? load_attachment_pixel(format, targets[k], pixel) : (uint4)(0);
-  }
 #endif
-  tile_depth[lane] = writable && u->depth_test ? depth[pixel] : 0.0f;
-  tile_stencil[lane] = writable && u->stencil_test ? stencil[pixel] : 0;
+  for (uint lane = item; lane < CLR_TILE_PIXELS; lane += CLR_RASTER_GROUP) {
+    const int x = origin.x + (int)(lane % CLR_TILE_SIZE);
+    const int y = origin.y + (int)(lane / CLR_TILE_SIZE);
+    const bool writable = x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3];
+    const uint pixel = (uint)y * framebuffer_width + (uint)x;
+#if CLR_NUM_OUTPUTS > 0
+    for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
+      const int format = u->target_format[k];
+      tile_color[k * CLR_TILE_PIXELS + lane] =
+          writable && format >= 0 ? load_attachment_pixel(format, targets[k], pixel) : (uint4)(0);
+    }
+#endif
+    tile_depth[lane] = writable && u->depth_test ? depth[pixel] : 0.0f;
+    tile_stencil[lane] = writable && u->stencil_test ? stencil[pixel] : 0;
+  }
 
   clr_fragment f = {0};
   f.clr_tile = tile_color;
   f.clr_draw = u;
-  f.clr_lane = lane;
 #if CLR_QUAD_SHADING
   f.clr_quad = quad_exchange;
 #endif
@@ -214,30 +268,24 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   for (uint base = begin; base < end; base += CLR_RASTER_TRIANGLE_BATCH) {
     const uint n = min((uint)CLR_RASTER_TRIANGLE_BATCH, end - base);
     barrier(CLK_LOCAL_MEM_FENCE); /* everyone is done with the previous batch */
-    for (uint i = lane; i < n; i += CLR_TILE_PIXELS) {
+    for (uint i = item; i < n; i += CLR_RASTER_GROUP) {
       const uint id = sorted_triangles[base + i];
       batch[i] = (id & CLR_OVERFLOW_TRIANGLE) ? overflow[id & ~CLR_OVERFLOW_TRIANGLE] : records[id];
+      coverage_mask(&batch[i], origin, masks[i]);
     }
+    barrier(CLK_LOCAL_MEM_FENCE);
 #if CLR_QUAD_SHADING
-    if (lane < CLR_RASTER_TRIANGLE_BATCH / 32) group_coverage[lane] = 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint w = 0; w < CLR_RASTER_TRIANGLE_BATCH / 32; ++w) {
-      uint covered = 0;
-      long e[3];
-      for (uint i = w * 32; i < min(n, w * 32 + 32); ++i) {
-        if (writable && triangle_covers(&batch[i], x, y, e)) covered |= 1u << (i % 32);
-      }
-      pixel_coverage[lane][w] = covered;
-      if (covered) atomic_or(&group_coverage[w], covered);
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    /* One work-item per pixel: every one runs the program for each triangle that covers any pixel
+     * of the tile, the uncovered ones as helpers. */
+    const int x = origin.x + (int)(item % CLR_TILE_SIZE);
+    const int y = origin.y + (int)(item / CLR_TILE_SIZE);
     for (uint i = 0; i < n; ++i) {
+      ulong any = 0;
+      for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) any |= masks[i][w];
       /* The same decision in every work-item, so all of them reach the program's barriers. */
-      if (!(group_coverage[i / 32] & (1u << (i % 32)))) continue;
-      long e[3];
-      edge_values(&batch[i], x, y, e);
-      process_fragment(&batch[i], x, y, e, (pixel_coverage[lane][i / 32] >> (i % 32)) & 1u, &f, tile_color,
-                       &tile_depth[lane], &tile_stencil[lane], u);
+      if (!any) continue;
+      process_fragment(&batch[i], x, y, item, (masks[i][item / 64] >> (item % 64)) & 1u, &f, tile_color,
+                       &tile_depth[item], &tile_stencil[item], u);
       /* What follows the program's last barrier branches per pixel (helper or not, discard, the
        * tests, blending, the program's own code). Those branches must meet again at a barrier before
        * the loop goes on: PoCL otherwise takes a branch that leads on toward the next iteration's
@@ -246,24 +294,32 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       barrier(CLK_LOCAL_MEM_FENCE);
     }
 #else
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (writable) {
-      long e[3];
-      for (uint i = 0; i < n; ++i) {
-        if (triangle_covers(&batch[i], x, y, e)) {
-          process_fragment(&batch[i], x, y, e, true, &f, tile_color, &tile_depth[lane], &tile_stencil[lane], u);
+    /* Each work-item shades the fragments of its own pixels, triangle by triangle in primitive
+     * order, visiting only the pixels each triangle covers. */
+    for (uint i = 0; i < n; ++i) {
+      for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) {
+        for (ulong bits = masks[i][w] & own_pixels(w, item); bits != 0; bits &= bits - 1) {
+          const uint lane = (uint)w * 64 + (63 - clz(bits & (0 - bits)));
+          process_fragment(&batch[i], origin.x + (int)(lane % CLR_TILE_SIZE), origin.y + (int)(lane / CLR_TILE_SIZE),
+                           lane, true, &f, tile_color, &tile_depth[lane], &tile_stencil[lane], u);
         }
       }
     }
 #endif
   }
-  if (!writable) return;
+  barrier(CLK_LOCAL_MEM_FENCE); /* every pixel's last fragment is in the tile */
+  for (uint lane = item; lane < CLR_TILE_PIXELS; lane += CLR_RASTER_GROUP) {
+    const int x = origin.x + (int)(lane % CLR_TILE_SIZE);
+    const int y = origin.y + (int)(lane / CLR_TILE_SIZE);
+    if (!(x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3])) continue;
+    const uint pixel = (uint)y * framebuffer_width + (uint)x;
 #if CLR_NUM_OUTPUTS > 0
-  for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
-    const int format = u->target_format[k];
-    if (format >= 0) store_attachment_pixel(format, targets[k], pixel, tile_color[k * CLR_TILE_PIXELS + lane]);
-  }
+    for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
+      const int format = u->target_format[k];
+      if (format >= 0) store_attachment_pixel(format, targets[k], pixel, tile_color[k * CLR_TILE_PIXELS + lane]);
+    }
 #endif
-  if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
-  if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
+    if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
+    if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
+  }
 }

@@ -4,6 +4,11 @@
 
 namespace clraster::stages {
 
+RasterStage::RasterStage(const cl::Program& program)
+    : kernel_(program, "raster_tiles"),
+      group_size_(kernel_.getWorkGroupInfo<CL_KERNEL_COMPILE_WORK_GROUP_SIZE>(
+          program.getInfo<CL_PROGRAM_DEVICES>().front())[0]) {}
+
 void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
   queue.set_stage(cl_host::Stage::Raster);
   cl_host::set_args(kernel_, p.records, p.overflow, p.sorted_ids, p.tile_ranges, cl_uint{p.tiles_x}, cl_uint{p.width},
@@ -11,9 +16,9 @@ void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
   cl_uint next = 9;
   for (const cl::Buffer& color : p.colors) kernel_.setArg(next++, color);
   set_resource_args(kernel_, next, *p.resources);
-  const auto side = static_cast<std::size_t>(p.tile_size);
-  queue.get().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(p.tiles_x * side, p.tiles_y * side),
-                                   cl::NDRange(side, side), nullptr, queue.event());
+  // One work-group per tile, of the shape the program was compiled for (raster.cl).
+  queue.get().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(std::size_t{p.tiles_x} * p.tiles_y * group_size_),
+                                   cl::NDRange(group_size_), nullptr, queue.event());
 }
 
 }  // namespace clraster::stages

@@ -15,7 +15,6 @@ struct RasterParams {
   cl::Buffer tile_ranges;
   std::uint32_t tiles_x = 0;
   std::uint32_t tiles_y = 0;
-  int tile_size = 0;
   std::uint32_t width = 0;   // of the framebuffer
   cl::Buffer uniforms;
   cl::Buffer depth_stencil;  // depth floats, then stencil bytes at stencil_offset (a placeholder: none)
@@ -26,7 +25,7 @@ struct RasterParams {
 
 class RasterStage {
  public:
-  explicit RasterStage(const cl::Program& program) : kernel_(program, "raster_tiles") {}
+  explicit RasterStage(const cl::Program& program);
   void run(cl_host::Queue& queue, const RasterParams& params);
   // Local memory one tile's work-group uses (its batch of triangles, the tile's attachments).
   std::size_t local_memory_bytes(const cl::Device& device) const {
@@ -35,6 +34,7 @@ class RasterStage {
 
  private:
   cl::Kernel kernel_;
+  std::size_t group_size_;  // work-items per tile: the kernel's reqd_work_group_size
 };
 
 }  // namespace clraster::stages

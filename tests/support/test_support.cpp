@@ -1,5 +1,6 @@
 #include "support/test_support.hpp"
 
+#include "api/impl.hpp"
 #include "cl/kernel_sources.hpp"
 #include "io/image_io.hpp"
 #include "io/procedural.hpp"
@@ -70,6 +71,11 @@ struct ClrasterMesh {
 std::string builtin_stage_program() {
   const std::string source = cl_sources::text("program/builtin.cl");
   return program::generate_stage_program(program::parse_program(source, "<builtin>"), source, "<builtin>");
+}
+
+cl::Program build_test_program(const std::string& name, const std::string& source) {
+  ContextState& state = *shared_context().impl().state;
+  return state.programs.get(name, source, state.build_options());
 }
 
 Context& shared_context() {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include "clraster/clraster.hpp"
+
+#include <CL/opencl.hpp>
 #include "io/image_compare.hpp"
 #include "io/mesh.hpp"
 
@@ -23,6 +25,12 @@ Context& shared_context();
 // The generated stage program of the built-in program: what kernel unit tests append their test
 // kernels to, so they call the stages' real functions.
 std::string builtin_stage_program();
+
+// `source` built for the shared context's device with the options the pipeline's own programs get
+// (memoized by the context's program cache). Kernel unit tests call it from SetUp, not from
+// SetUpTestSuite: a program that fails to build then fails each of its tests, where an exception in
+// SetUpTestSuite would only skip them.
+cl::Program build_test_program(const std::string& name, const std::string& source);
 
 // Renders one draw of `mesh` into a width x height framebuffer cleared to opaque black and depth 1.
 struct RenderResult {
