@@ -40,6 +40,7 @@
 #define CLR_SCAN_BLOCK (CLR_SCAN_GROUP_SIZE * CLR_SCAN_ITEMS)
 #define CLR_RADIX_BITS 4          /* bits of the tile key sorted per radix pass */
 #define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
+#define CLR_CLEAR_TEXELS_PER_ITEM 256 /* texels one work-item of a clear writes */
 
 /* ---- Rasterization ----------------------------------------------------------------------------- */
 /* The tile size (pixels per side, one work-group per tile) is a context option; its default is

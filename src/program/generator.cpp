@@ -60,7 +60,8 @@ void emit_constants(std::ostringstream& out, const ParsedProgram& p) {
       << "#define CLR_SHADED_VERTEX_FLOAT4S " << 1 + (varying_float_count(p) + 3) / 4 << "\n"
       << "#define CLR_NUM_OUTPUTS " << in.outputs.size() << "\n"
       << "#define CLR_QUAD_SHADING " << (in.uses_derivatives ? 1 : 0) << "\n"
-      << "#define CLR_EARLY_TESTS " << (early_fragment_tests(p) ? 1 : 0) << "\n";
+      << "#define CLR_EARLY_TESTS " << (early_fragment_tests(p) ? 1 : 0) << "\n"
+      << "#define CLR_READS_FRAMEBUFFER " << (p.reads_framebuffer ? 1 : 0) << "\n";
   bool flat = false;
   for (const Interpolation mode : p.varying_floats) flat = flat || mode == Interpolation::Flat;
   out << "#define CLR_HAS_FLAT_VARYINGS " << (flat ? 1 : 0) << "\n";

@@ -80,6 +80,8 @@ class Parser {
                                    mentions("clr_dfdy_coarse") || mentions("clr_fwidth") || mentions("clr_sample");
     p.may_discard = mentions("clr_discard");
     p.writes_depth = mentions("frag_depth");
+    p.reads_framebuffer = mentions("clr_framebuffer_fetch") || mentions("clr_framebuffer_fetch_int") ||
+                          mentions("clr_framebuffer_fetch_uint");
     return p;
   }
 

@@ -21,6 +21,7 @@ struct ParsedProgram {
   std::vector<Interpolation> varying_floats;
   bool may_discard = false;  // mentions clr_discard
   bool writes_depth = false; // mentions frag_depth
+  bool reads_framebuffer = false;  // mentions clr_framebuffer_fetch (or its _int, _uint forms)
 };
 
 // Throws InvalidArgument with "file_name:LINE: ..." for a malformed or duplicate declaration, an

@@ -121,14 +121,14 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
  * fragment passes both. */
 inline bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
                            __local uchar* stencil) {
-  const StencilUniforms s = u->stencil[f->front_facing ? 0 : 1];
-  const bool stencil_passes = !u->stencil_test || clr_stencil_test(s, *stencil);
+  __constant const StencilUniforms* s = &u->stencil[f->front_facing ? 0 : 1];
+  const bool stencil_passes = !u->stencil_test || clr_stencil_test(*s, *stencil);
   bool depth_passes = true;
   if (stencil_passes && u->depth_test) {
     depth_passes = u->depth_func == CLR_COMPARE_PROGRAM ? clr_program_depth_test(f, f->frag_depth, *depth)
                                                         : clr_compare(u->depth_func, f->frag_depth, *depth);
   }
-  if (u->stencil_test) *stencil = (uchar)clr_stencil_update(s, clr_stencil_op(s, stencil_passes, depth_passes), *stencil);
+  if (u->stencil_test) *stencil = (uchar)clr_stencil_update(*s, clr_stencil_op(*s, stencil_passes, depth_passes), *stencil);
   if (!stencil_passes || !depth_passes) return false;
   if (u->depth_test && u->depth_write) *depth = f->frag_depth;
   return true;
@@ -145,6 +145,10 @@ void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local
   const float4 destination = as_float4(*pixel);
   BlendUniforms b = u->blend[target];
   float4 result = source;
+  /* The tile keeps what a store then a load of the attachment would give only where the draw reads
+   * it back (blending, framebuffer fetch): otherwise the conversion when the tile is written out at
+   * the end gives the same bytes. 8-bit blending's results are on the attachment's grid already. */
+  bool quantize = CLR_READS_FRAMEBUFFER;
   if (b.enabled) {
     const bool program_rgb = b.rgb_equation == CLR_BLEND_PROGRAM;
     const bool program_alpha = b.alpha_equation == CLR_BLEND_PROGRAM;
@@ -160,8 +164,10 @@ void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local
             ? clr_blend_unorm8(b, source, destination, constant_color, channels)
             : clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels);
     result = (float4)(program_rgb ? programmed.xyz : fixed.xyz, program_alpha ? programmed.w : fixed.w);
+    quantize = quantize || program_rgb || program_alpha || format > CLR_FORMAT_RGBA8;
   }
-  *pixel = as_uint4(clr_quantize_float(format, clr_apply_write_mask(b.write_mask, result, destination)));
+  result = clr_apply_write_mask(b.write_mask, result, destination);
+  *pixel = as_uint4(quantize ? clr_quantize_float(format, result) : result);
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
@@ -203,11 +209,15 @@ inline void process_fragment(const __local SetupTriangle* t, int x, int y, uint 
   f->clr_lane = lane;
   const clr_outputs no_outputs = {0};
   f->out = no_outputs;
-  clr_interpolate_varyings(t, pw, norm, l, &f->in);
 #if CLR_EARLY_TESTS
+  /* Hidden fragments skip the interpolation too, unless the program's depth test may read it. */
+  const bool program_depth_test = u->depth_test && u->depth_func == CLR_COMPARE_PROGRAM;
+  if (program_depth_test) clr_interpolate_varyings(t, pw, norm, l, &f->in);
   if (!fragment_tests(f, u, depth, stencil)) return;
+  if (!program_depth_test) clr_interpolate_varyings(t, pw, norm, l, &f->in);
   fragment(f);
 #else
+  clr_interpolate_varyings(t, pw, norm, l, &f->in);
   fragment(f);
   if (!live || f->discarded) return;
   f->frag_depth = clamp(f->frag_depth, 0.0f, 1.0f);
