@@ -35,9 +35,17 @@
 
 /* ---- Work-group sizes -------------------------------------------------------------------------- */
 #define CLR_ITEM_GROUP_SIZE 64    /* one-work-item-per-element kernels (vertices, primitives) */
-#define CLR_SCAN_GROUP_SIZE 256   /* scans and radix-sort passes */
-#define CLR_SCAN_ITEMS 8          /* elements per work-item in scans and sorts */
-#define CLR_SCAN_BLOCK (CLR_SCAN_GROUP_SIZE * CLR_SCAN_ITEMS)
+/* Scans, radix-sort passes and index validation take blocks of CLR_SCAN_BLOCK elements, one
+ * work-group each. Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are the device's choice:
+ * CLR_SCAN_GPU_ITEMS on GPUs, which share a block's work through local memory, and
+ * CLR_SCAN_CPU_ITEMS on CPUs, where PoCL would run the group's many barriers (each a pass of a loop
+ * over all its work-items) for what one work-item does in one pass over the block (measured). */
+#define CLR_SCAN_BLOCK 2048
+#define CLR_SCAN_GPU_ITEMS 256
+#define CLR_SCAN_CPU_ITEMS 1
+#ifdef CLR_SCAN_GROUP_SIZE
+#define CLR_SCAN_ITEMS (CLR_SCAN_BLOCK / CLR_SCAN_GROUP_SIZE) /* elements per work-item */
+#endif
 #define CLR_RADIX_BITS 4          /* bits of the tile key sorted per radix pass */
 #define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
 #define CLR_CLEAR_TEXELS_PER_ITEM 256 /* texels one work-item of a clear writes */

@@ -288,7 +288,8 @@ TEST_F(KernelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
   parallel::Scan scan(state().core_program());
   cl::Buffer counters = buffer(std::vector<cl_uint>(CLR_COUNTER_COUNT));
   for (std::size_t n : {std::size_t{1}, std::size_t{CLR_SCAN_BLOCK - 1}, std::size_t{CLR_SCAN_BLOCK + 1},
-                        std::size_t{CLR_SCAN_BLOCK * CLR_SCAN_GROUP_SIZE + 77}}) {
+                        std::size_t{CLR_SCAN_BLOCK * (CLR_SCAN_GPU_ITEMS + 1) + 77}}) {
+    // The last: more blocks than a GPU-shaped scan_block_sums takes in one round.
     std::vector<cl_uint> data(n);
     std::mt19937 random(static_cast<unsigned>(n));
     for (cl_uint& v : data) v = random() % 9;

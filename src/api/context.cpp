@@ -34,20 +34,28 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
       context(device.device),
       queue(cl::CommandQueue(context, device.device, options.profile ? CL_QUEUE_PROFILING_ENABLE : 0), options.profile),
       programs(context, device, options.cache_dir) {
+  // Quad shading always takes a work-item per pixel of a tile.
   const std::size_t group_limit = device.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
   const auto tile_pixels = static_cast<std::size_t>(options.tile_size * options.tile_size);
-  if (tile_pixels > group_limit || CLR_SCAN_GROUP_SIZE > group_limit) {
+  const std::size_t largest_group = std::max<std::size_t>(tile_pixels, scan_items());
+  if (largest_group > group_limit) {
     throw InvalidArgument("device " + device.info.name + " allows work-groups of " + std::to_string(group_limit) +
                           " work-items; tile size " + std::to_string(options.tile_size) + " needs " +
-                          std::to_string(std::max<std::size_t>(tile_pixels, CLR_SCAN_GROUP_SIZE)));
+                          std::to_string(largest_group));
   }
 }
 
+bool ContextState::cpu_device() const { return (device.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0; }
+
+std::size_t ContextState::scan_items() const { return cpu_device() ? CLR_SCAN_CPU_ITEMS : CLR_SCAN_GPU_ITEMS; }
+
 std::string ContextState::build_options() const {
-  const bool cpu = (device.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
-  const int raster_items = cpu ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
+  // Work-group shapes are the device's (clr_limits.h): kernels take them as constants, the host
+  // reads them back from each kernel (cl_host::compiled_group_size).
+  const int raster_items = cpu_device() ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
   return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size) +
-         " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items);
+         " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items) + " -DCLR_SCAN_GROUP_SIZE=" +
+         std::to_string(scan_items());
 }
 
 const cl::Program& ContextState::core_program() {

@@ -32,6 +32,8 @@ struct ContextState : std::enable_shared_from_this<ContextState> {
   const Program& builtin_program();
   // Build options every program of this context gets.
   std::string build_options() const;
+  bool cpu_device() const;
+  std::size_t scan_items() const;  // work-items per block of scans and sorts (clr_limits.h)
 
  private:
   std::optional<cl::Program> core_;

@@ -10,6 +10,12 @@
 
 namespace clraster::cl_host {
 
+// The work-group size a kernel was compiled for (its reqd_work_group_size, x).
+inline std::size_t compiled_group_size(const cl::Kernel& kernel) {
+  const cl::Device device = kernel.getInfo<CL_KERNEL_PROGRAM>().getInfo<CL_PROGRAM_DEVICES>().front();
+  return kernel.getWorkGroupInfo<CL_KERNEL_COMPILE_WORK_GROUP_SIZE>(device)[0];
+}
+
 // Sets every kernel argument in order.
 template <typename... Args>
 void set_args(cl::Kernel& kernel, const Args&... args) {

@@ -17,7 +17,7 @@ void radix_histogram(__global const uint* keys, uint count, uint shift, __global
                      uint block_count) {
   __local uint buckets[CLR_RADIX_BUCKETS];
   const uint lid = get_local_id(0);
-  if (lid < CLR_RADIX_BUCKETS) buckets[lid] = 0;
+  for (uint d = lid; d < CLR_RADIX_BUCKETS; d += CLR_SCAN_GROUP_SIZE) buckets[d] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
   const uint begin = get_group_id(0) * CLR_SCAN_BLOCK;
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
@@ -25,7 +25,7 @@ void radix_histogram(__global const uint* keys, uint count, uint shift, __global
     if (index < count) atomic_inc(&buckets[radix_digit(keys[index], shift)]);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < CLR_RADIX_BUCKETS) histogram[lid * block_count + get_group_id(0)] = buckets[lid];
+  for (uint d = lid; d < CLR_RADIX_BUCKETS; d += CLR_SCAN_GROUP_SIZE) histogram[d * block_count + get_group_id(0)] = buckets[d];
 }
 
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))

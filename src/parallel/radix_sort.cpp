@@ -10,7 +10,10 @@ namespace clraster::parallel {
 using cl_host::divide_round_up;
 
 RadixSort::RadixSort(const cl::Program& program, Scan& scan)
-    : scan_(scan), histogram_(program, "radix_histogram"), scatter_(program, "radix_scatter") {}
+    : scan_(scan),
+      histogram_(program, "radix_histogram"),
+      scatter_(program, "radix_scatter"),
+      group_size_(cl_host::compiled_group_size(histogram_)) {}
 
 std::size_t RadixSort::histogram_bytes(std::size_t count) {
   return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * CLR_RADIX_BUCKETS * sizeof(cl_uint);
@@ -29,11 +32,11 @@ int RadixSort::sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl
   for (int shift = 0; shift < key_bits && count > 1; shift += CLR_RADIX_BITS) {
     const auto shift_arg = static_cast<cl_uint>(shift);
     cl_host::set_args(histogram_, keys[source], n, shift_arg, histogram, blocks);
-    cl_host::enqueue_blocks(queue, histogram_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+    cl_host::enqueue_blocks(queue, histogram_, count, CLR_SCAN_BLOCK, group_size_);
     scan_.exclusive(queue, histogram, std::size_t{blocks} * CLR_RADIX_BUCKETS, block_sums, counters);
     cl_host::set_args(scatter_, keys[source], values[source], n, shift_arg, histogram, blocks, keys[1 - source],
                       values[1 - source]);
-    cl_host::enqueue_blocks(queue, scatter_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+    cl_host::enqueue_blocks(queue, scatter_, count, CLR_SCAN_BLOCK, group_size_);
     source = 1 - source;
   }
   return source;

@@ -22,6 +22,7 @@ class RadixSort {
   Scan& scan_;
   cl::Kernel histogram_;
   cl::Kernel scatter_;
+  std::size_t group_size_;  // work-items per block (CLR_SCAN_GROUP_SIZE)
 };
 
 }  // namespace clraster::parallel

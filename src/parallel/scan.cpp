@@ -11,7 +11,10 @@ namespace clraster::parallel {
 using cl_host::divide_round_up;
 
 Scan::Scan(const cl::Program& program)
-    : reduce_(program, "scan_reduce"), scan_block_sums_(program, "scan_block_sums"), apply_(program, "scan_apply") {}
+    : reduce_(program, "scan_reduce"),
+      scan_block_sums_(program, "scan_block_sums"),
+      apply_(program, "scan_apply"),
+      group_size_(cl_host::compiled_group_size(reduce_)) {}
 
 std::size_t Scan::scratch_bytes(std::size_t count) {
   return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * sizeof(cl_uint);
@@ -22,11 +25,11 @@ void Scan::exclusive(cl_host::Queue& queue, const cl::Buffer& data, std::size_t 
   const auto n = static_cast<cl_uint>(count);
   const auto blocks = static_cast<cl_uint>(divide_round_up(count, CLR_SCAN_BLOCK));
   cl_host::set_args(reduce_, data, n, block_sums);
-  cl_host::enqueue_blocks(queue, reduce_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+  cl_host::enqueue_blocks(queue, reduce_, count, CLR_SCAN_BLOCK, group_size_);
   cl_host::set_args(scan_block_sums_, block_sums, blocks, counters);
-  cl_host::enqueue_group(queue, scan_block_sums_, CLR_SCAN_GROUP_SIZE);
+  cl_host::enqueue_group(queue, scan_block_sums_, group_size_);
   cl_host::set_args(apply_, data, n, block_sums);
-  cl_host::enqueue_blocks(queue, apply_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+  cl_host::enqueue_blocks(queue, apply_, count, CLR_SCAN_BLOCK, group_size_);
 }
 
 }  // namespace clraster::parallel

@@ -25,6 +25,7 @@ class Scan {
   cl::Kernel reduce_;
   cl::Kernel scan_block_sums_;
   cl::Kernel apply_;
+  std::size_t group_size_;  // work-items per block (CLR_SCAN_GROUP_SIZE)
 };
 
 }  // namespace clraster::parallel

@@ -55,7 +55,7 @@ std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t fi
   if (cache.valid && cache.first == first && cache.count == count) return cache.largest;
   cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint));
   cl_host::set_args(index_max_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
-  cl_host::enqueue_blocks(queue_, index_max_, count, CLR_SCAN_BLOCK, CLR_SCAN_GROUP_SIZE);
+  cl_host::enqueue_blocks(queue_, index_max_, count, CLR_SCAN_BLOCK, cl_host::compiled_group_size(index_max_));
   cache = {true, first, count, read_uint(queue_, counters_, CLR_COUNTER_MAX_INDEX)};
   return cache.largest;
 }

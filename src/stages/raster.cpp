@@ -5,9 +5,7 @@
 namespace clraster::stages {
 
 RasterStage::RasterStage(const cl::Program& program)
-    : kernel_(program, "raster_tiles"),
-      group_size_(kernel_.getWorkGroupInfo<CL_KERNEL_COMPILE_WORK_GROUP_SIZE>(
-          program.getInfo<CL_PROGRAM_DEVICES>().front())[0]) {}
+    : kernel_(program, "raster_tiles"), group_size_(cl_host::compiled_group_size(kernel_)) {}
 
 void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
   queue.set_stage(cl_host::Stage::Raster);
