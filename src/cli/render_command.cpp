@@ -3,6 +3,7 @@
 #include "cli/model_draws.hpp"
 #include "io/image_io.hpp"
 #include "io/model_loader.hpp"
+#include "io/shading.hpp"
 #include "oracle/gl_renderer.hpp"
 
 #include <algorithm>
@@ -79,29 +80,17 @@ io::Model load_scene(const RenderOptions& options) {
 }
 
 DrawState make_state(const RenderOptions& options, const io::Camera& camera) {
-  DrawState state;
-  state.model_view = io::to_mat4(io::view_matrix(camera));
-  state.projection = io::to_mat4(io::projection_matrix(camera, static_cast<float>(options.width) / options.height));
-  state.cull = options.cull;
+  io::BuiltinShading shading = io::BuiltinShading::Normal;  // also for material: programs read no built-in input
   switch (options.shading) {
-    case ShadingOption::Normal: state.shading = Shading::Normal; break;
-    case ShadingOption::Lambert:
-      state.shading = Shading::Lambert;
-      state.base_color = {0.85f, 0.85f, 0.85f, 1.0f};
-      break;
-    case ShadingOption::Depth:
-      state.shading = Shading::Depth;
-      state.depth_shading_range = {camera.near_plane, camera.far_plane};
-      break;
-    case ShadingOption::Overdraw:
-      // Every fragment adds 1/255: the red channel counts the fragments of each pixel.
-      state.shading = Shading::Constant;
-      state.base_color = {1.0f / 255, 1.0f / 255, 1.0f / 255, 1.0f / 255};
-      state.blend[0] = kAdditiveBlend;
-      state.depth_test = false;
-      break;
-    case ShadingOption::Material: break;  // a program's draws: the built-in shading inputs are not read
+    case ShadingOption::Normal:
+    case ShadingOption::Material: break;
+    case ShadingOption::Lambert: shading = io::BuiltinShading::Lambert; break;
+    case ShadingOption::Depth: shading = io::BuiltinShading::Depth; break;
+    case ShadingOption::Overdraw: shading = io::BuiltinShading::Overdraw; break;
   }
+  DrawState state =
+      io::shading_state(shading, camera, static_cast<float>(options.width) / static_cast<float>(options.height));
+  state.cull = options.cull;
   return state;
 }
 
