@@ -22,20 +22,6 @@
 namespace clraster::cli {
 namespace {
 
-// Refuses an output path that cannot be written before any work is done, so a long render never
-// ends in a failed save.
-void check_output_writable(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path file(path);
-  std::error_code error;
-  if (fs::is_directory(file, error)) throw InvalidArgument("cannot write " + path + ": it is a directory");
-  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, error)) throw InvalidArgument("cannot write " + path + ": no directory " + parent.string());
-  if (::access(parent.c_str(), W_OK) != 0 || (fs::exists(file, error) && ::access(file.c_str(), W_OK) != 0)) {
-    throw InvalidArgument("cannot write " + path + ": permission denied");
-  }
-}
-
 struct FrameTimes {
   double first_ms = 0;
   std::vector<double> timed_ms;
@@ -248,6 +234,18 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
 }
 
 }  // namespace
+
+void check_output_writable(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path file(path);
+  std::error_code error;
+  if (fs::is_directory(file, error)) throw InvalidArgument("cannot write " + path + ": it is a directory");
+  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, error)) throw InvalidArgument("cannot write " + path + ": no directory " + parent.string());
+  if (::access(parent.c_str(), W_OK) != 0 || (fs::exists(file, error) && ::access(file.c_str(), W_OK) != 0)) {
+    throw InvalidArgument("cannot write " + path + ": permission denied");
+  }
+}
 
 io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds, io::Camera camera) {
   camera.fov_degrees = options.fov_degrees;
