@@ -1,7 +1,7 @@
-// The command line, run as a separate process: its interface (render, compare, devices, --help,
-// --version, both option spellings, --stats, the OpenGL backend), and its answer to bad input:
-// one clear line on stderr and a non-zero exit, never a crash or a hang, and an existing output
-// file left as it was.
+// The command line, run as a separate process: its interface (render, compare, bench, devices,
+// --help, --version, both option spellings, --stats, the OpenGL backend), and its answer to bad
+// input: one clear line on stderr and a non-zero exit, never a crash or a hang, and an existing
+// output file left as it was.
 #include "io/camera.hpp"
 #include "io/image_io.hpp"
 #include "io/model_loader.hpp"
@@ -12,11 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace clraster::test {
@@ -122,7 +124,7 @@ TEST(CliInterface, VersionPrintsTheLibraryVersion) {
 TEST(CliInterface, HelpNamesTheCommands) {
   const CliResult result = run_cli({"--help"});
   EXPECT_TRUE(succeeded(result));
-  for (const char* command : {"render", "compare", "devices"}) EXPECT_TRUE(mentions(result.out, command));
+  for (const char* command : {"render", "compare", "bench", "devices"}) EXPECT_TRUE(mentions(result.out, command));
 }
 
 TEST(CliInterface, RenderHelpNamesEveryOption) {
@@ -131,6 +133,15 @@ TEST(CliInterface, RenderHelpNamesEveryOption) {
   for (const char* option : {"--output", "--size", "--eye", "--target", "--up", "--fov", "--near", "--far", "--shading",
                              "--program", "--cull", "--frames", "--stats", "--device", "--backend", "--memory-cap",
                              "--tile-size"}) {
+    EXPECT_TRUE(mentions(result.out, option));
+  }
+}
+
+TEST(CliInterface, BenchHelpNamesEveryOptionAndScene) {
+  const CliResult result = run_cli({"bench", "--help"});
+  EXPECT_TRUE(succeeded(result));
+  for (const char* option : {"--scenes", "--size", "--frames", "--json", "--device", "--memory-cap", "--tile-size",
+                             "--pictures", "model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
@@ -269,6 +280,53 @@ TEST(CliCompare, ReportsTheDifferencesAsJson) {
   EXPECT_EQ(json::parse(lenient.out).at("colour_mismatch_pixels"), 0);
 }
 
+TEST(CliBench, JsonHasEachSceneWithItsTimesStagesAndVerdict) {
+  const CliResult result =
+      run_cli({"bench", "--scenes", "fill-16,model-50k", "--size", "96x64", "--frames", "1", "--json"});
+  ASSERT_TRUE(succeeded(result));
+  EXPECT_EQ(std::count(result.out.begin(), result.out.end(), '\n'), 1) << result.out;
+  const json report = json::parse(result.out);
+  EXPECT_EQ(report.at("width"), 96);
+  EXPECT_EQ(report.at("height"), 64);
+  EXPECT_EQ(report.at("frames"), 1);
+  const json& scenes = report.at("scenes");
+  ASSERT_EQ(scenes.size(), 2u) << report;
+  const std::vector<std::pair<std::string, std::uint64_t>> expected{{"fill-16", 32}, {"model-50k", 50000}};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const json& scene = scenes[i];
+    ASSERT_TRUE(has_keys(scene, {"name", "triangles", "clraster_ms", "llvmpipe_ms", "ratio", "stage_ms",
+                                 "first_frame_ms", "peak_memory_bytes", "passed"}));
+    EXPECT_EQ(scene["name"], expected[i].first);
+    EXPECT_EQ(scene["triangles"], expected[i].second);
+    EXPECT_EQ(scene["passed"], true) << scene;
+    EXPECT_GT(scene["clraster_ms"].get<double>(), 0);
+    EXPECT_GT(scene["llvmpipe_ms"].get<double>(), 0);
+    const double ratio = scene["ratio"].get<double>();
+    EXPECT_TRUE(std::isfinite(ratio) && ratio > 0) << scene;
+    EXPECT_DOUBLE_EQ(ratio, scene["clraster_ms"].get<double>() / scene["llvmpipe_ms"].get<double>());
+    ASSERT_TRUE(has_keys(scene["stage_ms"], {"vertex", "setup", "binning", "raster", "other"}));
+    for (const auto& [stage, ms] : scene["stage_ms"].items()) EXPECT_GE(ms.get<double>(), 0) << stage;
+    EXPECT_GT(scene["stage_ms"]["raster"].get<double>(), 0);
+    EXPECT_GT(scene["first_frame_ms"].get<double>(), 0);
+    EXPECT_GT(scene["peak_memory_bytes"].get<std::uint64_t>(), 0u);
+  }
+  EXPECT_TRUE(std::isfinite(report.at("geomean_ratio").get<double>())) << report;
+}
+
+TEST(CliBench, TableHasARowPerSceneAndWritesThePictures) {
+  const fs::path pictures = scratch_directory() / "bench-pictures";
+  fs::create_directories(pictures);
+  const CliResult result =
+      run_cli({"bench", "--scenes", "fill-16", "--size", "32x16", "--frames", "1", "--pictures", pictures.string()});
+  ASSERT_TRUE(succeeded(result));
+  EXPECT_TRUE(mentions(result.out, "\nfill-16             32 32x16 "));
+  EXPECT_TRUE(mentions(result.out, "geometric mean of the ratios (clraster / llvmpipe): "));
+  const Image ours = io::load_png((pictures / "fill-16-clraster.png").string());
+  EXPECT_TRUE(images_match(ours, io::load_png((pictures / "fill-16-llvmpipe.png").string()), kExact));
+  EXPECT_EQ(ours.rgba[0], 16) << "16 fragments";
+  EXPECT_TRUE(fs::exists(pictures / "fill-16-diff.png"));
+}
+
 // ---- Bad input -------------------------------------------------------------------------------------
 
 // Runs `clraster render --output <an existing file> args...` and checks that it is rejected with a
@@ -289,6 +347,23 @@ TEST(CliBadInput, UnknownCommandIsNamed) {
 }
 
 TEST(CliBadInput, UnknownOptionIsNamed) { expect_render_rejected({"--colour", "red"}, "--colour"); }
+
+TEST(CliBadInput, BenchSceneThatDoesNotExist) {
+  EXPECT_TRUE(failed_with_error(run_cli({"bench", "--scenes", "model-50k,teapot"}), "'teapot'"));
+}
+
+TEST(CliBadInput, BenchSizeOutOfRange) {
+  EXPECT_TRUE(failed_with_error(run_cli({"bench", "--scenes", "fill-16", "--size", "0x10"}), "0x10"));
+}
+
+TEST(CliBadInput, BenchWithoutTimedFrames) {
+  EXPECT_TRUE(failed_with_error(run_cli({"bench", "--scenes", "fill-16", "--frames", "0"}), "--frames"));
+}
+
+TEST(CliBadInput, BenchPicturesInADirectoryThatDoesNotExist) {
+  EXPECT_TRUE(failed_with_error(run_cli({"bench", "--scenes", "fill-16", "--pictures", "/nonexistent/pictures"}),
+                                "/nonexistent/pictures"));
+}
 
 TEST(CliBadInput, NoCommand) { EXPECT_TRUE(failed_with_error(run_cli({}), "subcommand")); }
 

@@ -136,6 +136,32 @@ TEST(CompareImages, CountsRedDifferencesAsFragmentCountMismatches) {
   EXPECT_EQ(c.colour_mismatch_pixels, 0u);  // 1 is within the threshold
 }
 
+TEST(CompareImages, ToleranceBoundsAreInclusive) {
+  using clraster::io::kExact;
+  using clraster::io::kNormalShading;
+  using clraster::io::within;
+  // 1000 pixels covered in A, 2 of them not in B; of the 998 covered in both, 9 are 9 apart in red
+  // (0.9%) and 1 exactly 8 apart in green.
+  Image a = filled(100, 10, {100, 100, 100, 255});
+  Image b = a;
+  set(b, 0, 0, kBackground);
+  set(b, 1, 0, kBackground);
+  for (int x = 0; x < 9; ++x) set(b, x, 1, {109, 100, 100, 255});
+  set(b, 0, 2, {100, 108, 100, 255});
+  const auto c = compare_images(a, b, kNormalShading);
+  EXPECT_DOUBLE_EQ(c.coverage_mismatch, 0.002);
+  EXPECT_EQ(c.colour_mismatch_pixels, 9u);
+  EXPECT_TRUE(within(c, kNormalShading)) << clraster::io::to_json(c);
+  EXPECT_FALSE(within(c, {0.0019, 0.01, 8, ~0ull, false}));
+  EXPECT_FALSE(within(c, {0.002, 0.009, 8, ~0ull, false}));
+  EXPECT_FALSE(within(c, {0.002, 0.01, 8, 10, false})) << "11 pixels differ in red";
+  EXPECT_TRUE(within(c, {0.002, 0.01, 8, 11, false}));
+  // Exact: the comparison is made at threshold 0, and any differing byte fails it.
+  EXPECT_EQ(compare_images(a, b, kExact).colour_mismatch_pixels, 10u);
+  EXPECT_FALSE(within(compare_images(a, b, kExact), kExact));
+  EXPECT_TRUE(within(compare_images(a, a, kExact), kExact));
+}
+
 TEST(CompareImages, SizeMismatchNamesBothSizes) {
   const std::string message = error_message([] { compare_images(filled(4, 3), filled(3, 4)); });
   EXPECT_NE(message.find("4x3"), std::string::npos) << message;

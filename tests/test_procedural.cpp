@@ -4,11 +4,14 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <numbers>
 #include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "clraster/clraster.hpp"
@@ -99,6 +102,34 @@ TEST(MakeTorus, CountsAndOutwardFaces) {
     const glm::dvec3 middle = centroid(mesh, t);
     const glm::dvec3 tube_center = 2.0 * glm::normalize(glm::dvec3(middle.x, 0, middle.z));
     EXPECT_GT(glm::dot(face_cross(mesh, t), middle - tube_center), 0) << "triangle " << t;
+  }
+}
+
+TEST(MakeTorusKnot, CountsTubeRadiusAndOutwardFaces) {
+  // The trefoil: the curve (rho cos 2t, sin 3t, rho sin 2t) with rho = 2 + cos 3t.
+  const Mesh mesh = make_torus_knot(2, 3, 120, 10, 2, 1, 0.4f);
+  expect_well_formed(mesh);
+  EXPECT_EQ(mesh.vertex_count(), 120u * 10);
+  EXPECT_EQ(mesh.triangle_count(), 2u * 120 * 10);
+  expect_winding_follows_normals(mesh);
+  for (std::uint32_t segment = 0; segment < 120; ++segment) {
+    const double t = 2 * std::numbers::pi * segment / 120;
+    const double rho = 2 + std::cos(3 * t);
+    const glm::dvec3 curve(rho * std::cos(2 * t), std::sin(3 * t), rho * std::sin(2 * t));
+    for (std::uint32_t side = 0; side < 10; ++side) {
+      const std::uint32_t v = segment * 10 + side;
+      // On the tube around the curve, the normal pointing from the curve to the vertex.
+      EXPECT_LT(glm::distance(position(mesh, v), curve + 0.4 * normal(mesh, v)), 1e-5) << "vertex " << v;
+    }
+  }
+  // Closed: every edge is shared by exactly two triangles, once in each direction.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    for (int k = 0; k < 3; ++k) ++edges[{mesh.indices[3 * t + k], mesh.indices[3 * t + (k + 1) % 3]}];
+  }
+  for (const auto& [edge, count] : edges) {
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << edge.first << " - " << edge.second;
   }
 }
 
@@ -296,6 +327,11 @@ TEST(Procedural, InvalidArgumentsAreErrors) {
   EXPECT_THROW(make_torus(2, 8, 1, 0.5f), InvalidArgument);
   EXPECT_THROW(make_torus(8, 8, 1, -0.5f), InvalidArgument);
   EXPECT_THROW(make_box({0, 0, 0}, {1, 0, 1}), InvalidArgument);
+  EXPECT_THROW(make_torus_knot(0, 3, 64, 8, 2, 1, 0.4f), InvalidArgument);
+  EXPECT_THROW(make_torus_knot(2, 4, 64, 8, 2, 1, 0.4f), InvalidArgument);  // not coprime: two loops
+  EXPECT_THROW(make_torus_knot(2, 3, 2, 8, 2, 1, 0.4f), InvalidArgument);
+  EXPECT_THROW(make_torus_knot(2, 3, 64, 8, 1, 1, 0.4f), InvalidArgument);  // the curve would reach the axis
+  EXPECT_THROW(make_torus_knot(2, 3, 64, 8, 2, 1, 0), InvalidArgument);
   EXPECT_THROW(make_terrain(0, 8, 1, 1, 1, 0), InvalidArgument);
   EXPECT_THROW(make_terrain(8, 8, 1, 1, INFINITY, 0), InvalidArgument);
   EXPECT_THROW(make_plane(8, 8, 0, 1), InvalidArgument);

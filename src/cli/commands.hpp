@@ -38,9 +38,26 @@ struct CompareOptions {
   std::string diff_output;  // empty: no diff picture
 };
 
+struct BenchOptions {
+  std::string scenes;  // comma-separated scene names; empty: every scene
+  int width = 1920;
+  int height = 1080;
+  int frames = 9;  // timed frames of each renderer per scene
+  bool json = false;
+  int device = -1;
+  std::size_t memory_cap = kDefaultMemoryCap;
+  int tile_size = kDefaultTileSize;
+  std::string pictures;  // a directory for each scene's pictures; empty: none are written
+};
+
 int render(const RenderOptions& options);
 int compare(const CompareOptions& options);
+int bench(const BenchOptions& options);
 int devices();
+
+// Refuses an output path that cannot be written before any work is done, so a long run never
+// ends in a failed save.
+void check_output_writable(const std::string& path);
 
 // The camera a render uses: `base` (fitted to the model, or the demo's), overridden by the options.
 io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds, io::Camera base);

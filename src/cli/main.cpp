@@ -1,5 +1,7 @@
 // clraster: the command-line renderer. Parses the command line (CLI11) and hands over to the
-// subcommands in render_command.cpp and compare_command.cpp.
+// subcommands in render_command.cpp, compare_command.cpp and bench_command.cpp.
+#include "bench/runner.hpp"
+#include "bench/scenes.hpp"
 #include "cli/commands.hpp"
 
 #include <CLI/CLI.hpp>
@@ -39,6 +41,18 @@ void parse_size(const std::string& text, int& width, int& height) {
   }
   width = static_cast<int>(*w);
   height = static_cast<int>(*h);
+}
+
+// The options of the clraster context that render and bench share.
+void add_context_options(CLI::App* command, int& device, std::size_t& memory_cap_mib, int& tile_size) {
+  command->add_option("--device", device, "OpenCL device index (see `clraster devices`; default: $CLRASTER_DEVICE, else 0)")
+      ->check(CLI::Range(0, 1 << 20));
+  command->add_option("--memory-cap", memory_cap_mib, "Cap on the pipeline's intermediate buffers, MiB")
+      ->check(CLI::Range(std::size_t{kMinMemoryCap >> 20}, std::size_t{1} << 20))
+      ->capture_default_str();
+  command->add_option("--tile-size", tile_size, "Pixels per tile side: 8, 16 or 32")
+      ->check(CLI::IsMember({8, 16, 32}))
+      ->capture_default_str();
 }
 
 // CLI11 takes "-3,1,2" after "--eye" for an option name; joining such a value to its option
@@ -111,19 +125,11 @@ int main(int argc, char** argv) {
   render->add_option("--frames", render_options.frames, "Timed frames after one warm-up frame")
       ->check(CLI::Range(0, 100000));
   render->add_flag("--stats", render_options.stats, "Print one JSON line of statistics and timings");
-  render->add_option("--device", render_options.device, "OpenCL device index (see `clraster devices`; "
-                                                        "default: $CLRASTER_DEVICE, else 0)")
-      ->check(CLI::Range(0, 1 << 20));
   render->add_option("--backend", render_options.backend, "clraster, or gl: the same scene with the system's OpenGL")
       ->transform(CLI::CheckedTransformer(std::map<std::string, Backend>{{"clraster", Backend::Clraster}, {"gl", Backend::Gl}},
                                           CLI::ignore_case))
       ->option_text("clraster|gl (default: clraster)");
-  render->add_option("--memory-cap", memory_cap_mib, "Cap on the pipeline's intermediate buffers, MiB")
-      ->check(CLI::Range(std::size_t{kMinMemoryCap >> 20}, std::size_t{1} << 20))
-      ->capture_default_str();
-  render->add_option("--tile-size", render_options.tile_size, "Pixels per tile side: 8, 16 or 32")
-      ->check(CLI::IsMember({8, 16, 32}))
-      ->capture_default_str();
+  add_context_options(render, render_options.device, memory_cap_mib, render_options.tile_size);
 
   CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand("compare", "Print, as JSON, how far two pictures differ");
@@ -135,13 +141,40 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   compare->add_option("--diff", compare_options.diff_output, "Also write a picture of the differences");
 
+  BenchOptions bench_options;
+  std::string bench_size = "1920x1080";
+  std::size_t bench_memory_cap_mib = kDefaultMemoryCap >> 20;
+  std::string scene_list;
+  for (const std::string& name : bench::scene_names()) scene_list += (scene_list.empty() ? "" : ", ") + name;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Time fixed procedural scenes drawn by clraster and by Mesa's OpenGL (llvmpipe) in turn, and check "
+               "that both draw the same pictures");
+  bench->add_option("--scenes", bench_options.scenes,
+                    "Comma-separated scenes to run, of " + scene_list + " (default: all)")
+      ->option_text("NAME,...");
+  bench->add_option("--size", bench_size, "Picture size WIDTHxHEIGHT, each 1..16384")->capture_default_str();
+  bench
+      ->add_option("--frames", bench_options.frames,
+                   "Timed frames of each renderer per scene, after " + std::to_string(bench::kWarmupFrames) +
+                       " warm-up frames")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  bench->add_flag("--json", bench_options.json, "Print one JSON object instead of the table");
+  add_context_options(bench, bench_options.device, bench_memory_cap_mib, bench_options.tile_size);
+  bench->add_option("--pictures", bench_options.pictures,
+                    "Write each scene's pictures into this directory: SCENE-clraster.png, SCENE-llvmpipe.png and "
+                    "SCENE-diff.png")
+      ->option_text("DIR");
+
   CLI::App* devices = app.add_subcommand("devices", "List the OpenCL devices");
 
   // CLI11 would call an unknown command a missing one; name it instead.
   const std::vector<CLI::App*> commands = app.get_subcommands({});
   if (argc > 1 && argv[1][0] != '-' &&
       std::none_of(commands.begin(), commands.end(), [&](CLI::App* c) { return c->get_name() == argv[1]; })) {
-    std::cerr << "clraster: error: unknown command '" << argv[1] << "' (commands: render, compare, devices; see --help)\n";
+    std::string names;
+    for (const CLI::App* command : commands) names += (names.empty() ? "" : ", ") + command->get_name();
+    std::cerr << "clraster: error: unknown command '" << argv[1] << "' (commands: " << names << "; see --help)\n";
     return 2;
   }
   try {
@@ -169,6 +202,11 @@ int main(int argc, char** argv) {
       return cli::render(render_options);
     }
     if (*compare) return cli::compare(compare_options);
+    if (*bench) {
+      parse_size(bench_size, bench_options.width, bench_options.height);
+      bench_options.memory_cap = bench_memory_cap_mib << 20;
+      return cli::bench(bench_options);
+    }
     if (*devices) return cli::devices();
   } catch (const BuildError& error) {
     // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form

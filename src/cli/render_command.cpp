@@ -3,6 +3,7 @@
 #include "cli/model_draws.hpp"
 #include "io/image_io.hpp"
 #include "io/model_loader.hpp"
+#include "io/shading.hpp"
 #include "oracle/gl_renderer.hpp"
 
 #include <algorithm>
@@ -20,20 +21,6 @@
 
 namespace clraster::cli {
 namespace {
-
-// Refuses an output path that cannot be written before any work is done, so a long render never
-// ends in a failed save.
-void check_output_writable(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path file(path);
-  std::error_code error;
-  if (fs::is_directory(file, error)) throw InvalidArgument("cannot write " + path + ": it is a directory");
-  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, error)) throw InvalidArgument("cannot write " + path + ": no directory " + parent.string());
-  if (::access(parent.c_str(), W_OK) != 0 || (fs::exists(file, error) && ::access(file.c_str(), W_OK) != 0)) {
-    throw InvalidArgument("cannot write " + path + ": permission denied");
-  }
-}
 
 struct FrameTimes {
   double first_ms = 0;
@@ -79,29 +66,17 @@ io::Model load_scene(const RenderOptions& options) {
 }
 
 DrawState make_state(const RenderOptions& options, const io::Camera& camera) {
-  DrawState state;
-  state.model_view = io::to_mat4(io::view_matrix(camera));
-  state.projection = io::to_mat4(io::projection_matrix(camera, static_cast<float>(options.width) / options.height));
-  state.cull = options.cull;
+  io::BuiltinShading shading = io::BuiltinShading::Normal;  // also for material: programs read no built-in input
   switch (options.shading) {
-    case ShadingOption::Normal: state.shading = Shading::Normal; break;
-    case ShadingOption::Lambert:
-      state.shading = Shading::Lambert;
-      state.base_color = {0.85f, 0.85f, 0.85f, 1.0f};
-      break;
-    case ShadingOption::Depth:
-      state.shading = Shading::Depth;
-      state.depth_shading_range = {camera.near_plane, camera.far_plane};
-      break;
-    case ShadingOption::Overdraw:
-      // Every fragment adds 1/255: the red channel counts the fragments of each pixel.
-      state.shading = Shading::Constant;
-      state.base_color = {1.0f / 255, 1.0f / 255, 1.0f / 255, 1.0f / 255};
-      state.blend[0] = kAdditiveBlend;
-      state.depth_test = false;
-      break;
-    case ShadingOption::Material: break;  // a program's draws: the built-in shading inputs are not read
+    case ShadingOption::Normal:
+    case ShadingOption::Material: break;
+    case ShadingOption::Lambert: shading = io::BuiltinShading::Lambert; break;
+    case ShadingOption::Depth: shading = io::BuiltinShading::Depth; break;
+    case ShadingOption::Overdraw: shading = io::BuiltinShading::Overdraw; break;
   }
+  DrawState state =
+      io::shading_state(shading, camera, static_cast<float>(options.width) / static_cast<float>(options.height));
+  state.cull = options.cull;
   return state;
 }
 
@@ -259,6 +234,18 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
 }
 
 }  // namespace
+
+void check_output_writable(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path file(path);
+  std::error_code error;
+  if (fs::is_directory(file, error)) throw InvalidArgument("cannot write " + path + ": it is a directory");
+  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, error)) throw InvalidArgument("cannot write " + path + ": no directory " + parent.string());
+  if (::access(parent.c_str(), W_OK) != 0 || (fs::exists(file, error) && ::access(file.c_str(), W_OK) != 0)) {
+    throw InvalidArgument("cannot write " + path + ": permission denied");
+  }
+}
 
 io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere& bounds, io::Camera camera) {
   camera.fov_degrees = options.fov_degrees;

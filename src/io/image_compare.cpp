@@ -85,6 +85,17 @@ ImageComparison compare_images(const Image& a, const Image& b, int threshold) {
   return result;
 }
 
+ImageComparison compare_images(const Image& a, const Image& b, const Tolerance& tolerance) {
+  return compare_images(a, b, tolerance.exact ? 0 : tolerance.threshold);
+}
+
+bool within(const ImageComparison& c, const Tolerance& tolerance) {
+  return tolerance.exact ? c.differing_pixels == 0
+                         : c.coverage_mismatch <= tolerance.max_coverage_mismatch &&
+                               c.colour_mismatch <= tolerance.max_colour_mismatch &&
+                               c.count_mismatch_pixels <= tolerance.max_count_mismatch_pixels;
+}
+
 Image diff_image(const Image& a, const Image& b, int threshold) {
   check_comparable(a, b, threshold);
   Image picture{a.width, a.height, std::vector<std::uint8_t>(a.rgba.size())};

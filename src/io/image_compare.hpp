@@ -39,6 +39,25 @@ struct ImageComparison {
 // clraster::Error) when the sizes differ or the threshold is out of range.
 ImageComparison compare_images(const Image& a, const Image& b, int threshold = 8);
 
+// How close two renders of one scene must be: the conformance tests' thresholds, which the
+// benchmarks hold their pictures to as well.
+struct Tolerance {
+  double max_coverage_mismatch = 0;  // (only_a + only_b) / covered_either
+  double max_colour_mismatch = 0;    // pixels in both beyond `threshold` / covered_both
+  int threshold = 0;
+  std::uint64_t max_count_mismatch_pixels = 0;  // overdraw pictures: pixels whose red count differs
+  bool exact = false;                           // every byte equal
+};
+inline constexpr Tolerance kExact{0, 0, 0, 0, true};
+// The core pipeline's: clraster and OpenGL agree on all but 0.2% of the covered pixels, and on the
+// colour (within 8/255) of all but 1% of those both cover.
+inline constexpr Tolerance kNormalShading{0.002, 0.01, 8, ~0ull, false};
+
+// compare_images at the tolerance's threshold (0 when exact), and whether that comparison is
+// within the tolerance.
+ImageComparison compare_images(const Image& a, const Image& b, const Tolerance& tolerance);
+bool within(const ImageComparison& comparison, const Tolerance& tolerance);
+
 // A picture of where A and B differ, the size of both. Legend:
 //   grey (A's luminance at a quarter brightness)  pixels that agree (colour within the threshold)
 //   magenta (255, 0, 255)                          covered only in A

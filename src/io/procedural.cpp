@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -259,6 +260,56 @@ Mesh make_torus(int rings, int sides, float ring_radius, float tube_radius) {
     }
   }
   add_grid_triangles(mesh, 0, sides, rings, /*wrap_u=*/true, /*wrap_v=*/true);
+  return mesh;
+}
+
+Mesh make_torus_knot(int p, int q, int segments, int sides, float ring_radius, float winding_radius,
+                     float tube_radius) {
+  require_count("make_torus_knot", "p", p, 1);
+  require_count("make_torus_knot", "q", q, 1);
+  if (std::gcd(p, q) != 1) {
+    throw InvalidArgument("make_torus_knot: p and q must be coprime, got " + std::to_string(p) + " and " +
+                          std::to_string(q));
+  }
+  require_count("make_torus_knot", "segments", segments, 3);
+  require_count("make_torus_knot", "sides", sides, 3);
+  require_positive("make_torus_knot", "winding_radius", winding_radius);
+  require_positive("make_torus_knot", "tube_radius", tube_radius);
+  if (!(std::isfinite(ring_radius) && ring_radius > winding_radius)) {
+    throw InvalidArgument("make_torus_knot: ring_radius must be a finite number above winding_radius (" +
+                          format_number(winding_radius) + "), got " + format_number(ring_radius));
+  }
+  const std::uint64_t vertex_count = static_cast<std::uint64_t>(segments) * sides;
+  require_indexable("make_torus_knot", vertex_count);
+
+  Mesh mesh;
+  reserve_vertices(mesh, vertex_count);
+  const double big = ring_radius, small = winding_radius;
+  for (int segment = 0; segment < segments; ++segment) {
+    // The curve at t: azimuth u = p t around the y axis, angle v = q t around the ring.
+    const double t = 2 * std::numbers::pi * segment / segments;
+    const double u = p * t, v = q * t;
+    const double rho = big + small * std::cos(v);  // distance from the y axis, > 0
+    const double rho_dt = -small * q * std::sin(v);
+    const glm::dvec3 radial(std::cos(u), 0, std::sin(u));
+    const glm::dvec3 azimuthal(-std::sin(u), 0, std::cos(u));
+    const glm::dvec3 curve = rho * radial + glm::dvec3(0, small * std::sin(v), 0);
+    const glm::dvec3 tangent =
+        glm::normalize(rho_dt * radial + rho * p * azimuthal + glm::dvec3(0, small * q * std::cos(v), 0));
+    // The tube's frame: the radial direction made perpendicular to the tangent. The tangent always
+    // has an azimuthal component (rho * p > 0), so it is never radial and the frame never
+    // degenerates, unlike a Frenet frame where the curvature vanishes; it is periodic in t, so the
+    // tube closes without a seam.
+    const glm::dvec3 across = glm::normalize(radial - glm::dot(radial, tangent) * tangent);
+    const glm::dvec3 binormal = glm::cross(tangent, across);
+    for (int side = 0; side < sides; ++side) {
+      const double theta = 2 * std::numbers::pi * side / sides;
+      const glm::dvec3 normal = std::cos(theta) * across + std::sin(theta) * binormal;
+      add_vertex(mesh, glm::vec3(curve + double{tube_radius} * normal), glm::vec3(normal));
+    }
+  }
+  // theta along the grid's u and t along its v: cross(u, v) is cross(d/dtheta, tangent), outward.
+  add_grid_triangles(mesh, 0, sides, segments, /*wrap_u=*/true, /*wrap_v=*/true);
   return mesh;
 }
 

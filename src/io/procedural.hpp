@@ -26,6 +26,15 @@ Mesh make_sphere(int slices, int stacks, float radius, Vec3f center = {});
 // `sides` (>= 3) around the tube. 2 * rings * sides triangles with exact normals.
 Mesh make_torus(int rings, int sides, float ring_radius, float tube_radius);
 
+// A (p, q) torus knot: a tube of radius tube_radius around the closed curve that winds p times
+// around the y axis and q times around the circle of radius ring_radius in the xz plane, at
+// winding_radius from it. p, q >= 1 and coprime (so that the curve is one knot, (2, 3) the
+// trefoil); ring_radius > winding_radius > 0. `segments` (>= 3) rings along the curve, `sides`
+// (>= 3) vertices around each: 2 * segments * sides triangles, smooth and closed, with exact
+// normals (outward from the curve, perpendicular to it). A tube thicker than the curve's radius of
+// curvature, or than half the distance between its strands, intersects itself.
+Mesh make_torus_knot(int p, int q, int segments, int sides, float ring_radius, float winding_radius, float tube_radius);
+
 // The axis-aligned box [min, max] (min < max on each axis): 6 faces of 4 vertices with the face
 // normal, 12 triangles.
 Mesh make_box(Vec3f min, Vec3f max);

@@ -229,12 +229,8 @@ std::uint64_t covered_pixel_count(const Image& image) { return io::compare_image
 std::string output_directory() { return CLRASTER_TEST_OUTPUT_DIR; }
 
 ::testing::AssertionResult images_match(const Image& result, const Image& reference, const Tolerance& tolerance) {
-  const io::ImageComparison c = io::compare_images(result, reference, tolerance.exact ? 0 : tolerance.threshold);
-  const bool ok = tolerance.exact ? c.differing_pixels == 0
-                                  : c.coverage_mismatch <= tolerance.max_coverage_mismatch &&
-                                        c.colour_mismatch <= tolerance.max_colour_mismatch &&
-                                        c.count_mismatch_pixels <= tolerance.max_count_mismatch_pixels;
-  if (ok) return ::testing::AssertionSuccess();
+  const io::ImageComparison c = io::compare_images(result, reference, tolerance);
+  if (io::within(c, tolerance)) return ::testing::AssertionSuccess();
 
   const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
   std::filesystem::path dir = std::filesystem::path(output_directory()) /

@@ -119,16 +119,10 @@ std::vector<std::uint32_t> grid_strip(const GridVertices& grid);
 // Constant 1/255 red, added up without a depth test: the red channel counts each pixel's fragments.
 DrawState overdraw_counter();
 
-// How close two renders of a scene must be.
-struct Tolerance {
-  double max_coverage_mismatch = 0;  // (only_a + only_b) / covered_either
-  double max_colour_mismatch = 0;    // pixels in both beyond `threshold` / covered_both
-  int threshold = 0;
-  std::uint64_t max_count_mismatch_pixels = 0;  // overdraw pictures: pixels whose red count differs
-  bool exact = false;                           // every byte equal
-};
-inline constexpr Tolerance kExact{0, 0, 0, 0, true};
-inline constexpr Tolerance kNormalShading{0.002, 0.01, 8, ~0ull, false};
+// How close two renders of a scene must be (io/image_compare.hpp, shared with the benchmarks).
+using io::kExact;
+using io::kNormalShading;
+using io::Tolerance;
 
 // Compares result against reference within the tolerance. On failure writes
 // <test-output>/<test name>/{reference,result,diff}.png and adds a gtest failure that names them.

@@ -1,0 +1,161 @@
+#include "bench/runner.hpp"
+
+#include "oracle/gl_renderer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace clraster::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double milliseconds_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t middle = values.size() / 2;
+  return values.size() % 2 ? values[middle] : (values[middle - 1] + values[middle]) / 2;
+}
+
+double median_of(const std::vector<StageTimes>& frames, double StageTimes::*stage) {
+  std::vector<double> values;
+  for (const StageTimes& frame : frames) values.push_back(frame.*stage);
+  return median(values);
+}
+
+// A scene on clraster: its mesh in device buffers, drawn into textures of the formats GlRenderer
+// draws into.
+class ClrasterScene {
+ public:
+  ClrasterScene(Context& context, const io::Mesh& mesh, const DrawState& state, int width, int height)
+      : context_(context),
+        vertices_(context, mesh.positions, mesh.normals),
+        indices_(context, mesh.indices),
+        color_(context, width, height, Format::RGBA8),
+        depth_(context, width, height, Format::Depth32F),
+        framebuffer_(context, {&color_}, &depth_) {
+    call_.vertices = &vertices_;
+    call_.indices = &indices_;
+    call_.state = state;
+  }
+  ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the call point into it
+  ClrasterScene& operator=(const ClrasterScene&) = delete;
+
+  DrawStats frame() {
+    framebuffer_.clear({0, 0, 0, 1}, 1.0f);
+    const DrawStats stats = framebuffer_.draw(call_);
+    context_.finish();
+    return stats;
+  }
+
+  Image picture() const { return framebuffer_.read_color(); }
+
+ private:
+  Context& context_;
+  VertexBuffer vertices_;
+  IndexBuffer indices_;
+  Texture color_;
+  Texture depth_;
+  Framebuffer framebuffer_;
+  DrawCall call_;
+};
+
+class GlScene {
+ public:
+  GlScene(const io::Mesh& mesh, const DrawState& state, int width, int height)
+      : renderer_(width, height), mesh_(mesh.positions, mesh.normals, mesh.indices), state_(state) {}
+
+  void frame() {
+    renderer_.clear({0, 0, 0, 1}, 1.0f);
+    renderer_.draw(mesh_, 0, kAllElements, state_);
+    renderer_.finish();
+  }
+
+  Image picture() const { return renderer_.read_color(); }
+  std::string renderer() const { return renderer_.renderer(); }
+
+ private:
+  oracle::GlRenderer renderer_;
+  oracle::GlMesh mesh_;
+  DrawState state_;
+};
+
+// As an application would draw its first frame: without profiling.
+double time_first_frame(const Scene& scene, const DrawState& state, const RunOptions& options) {
+  ContextOptions unprofiled = options.context;
+  unprofiled.profile = false;
+  const Clock::time_point start = Clock::now();
+  Context context(unprofiled);
+  ClrasterScene drawn(context, scene.mesh, state, options.width, options.height);
+  drawn.frame();
+  return milliseconds_since(start);
+}
+
+}  // namespace
+
+SceneRun run_scene(const Scene& scene, const RunOptions& options) {
+  if (options.frames < 1) throw InvalidArgument("a benchmark needs at least one timed frame");
+  const DrawState state = scene.state(options.width, options.height);
+  SceneRun run;
+  SceneResult& result = run.result;
+  result.name = scene.name;
+  result.triangles = scene.mesh.triangle_count();
+  result.width = options.width;
+  result.height = options.height;
+  {
+    ContextOptions profiled = options.context;
+    profiled.profile = true;
+    Context context(profiled);
+    ClrasterScene ours(context, scene.mesh, state, options.width, options.height);
+    GlScene theirs(scene.mesh, state, options.width, options.height);
+    result.device = context.device().name;
+    result.gl_renderer = theirs.renderer();
+
+    for (int i = 0; i < kWarmupFrames; ++i) {
+      ours.frame();
+      theirs.frame();
+    }
+    std::vector<StageTimes> stages;
+    for (int i = 0; i < options.frames; ++i) {
+      Clock::time_point start = Clock::now();
+      const DrawStats stats = ours.frame();
+      result.clraster_frame_ms.push_back(milliseconds_since(start));
+      stages.push_back(stats.stage_times);
+      result.peak_memory_bytes = stats.peak_memory_bytes;
+
+      start = Clock::now();
+      theirs.frame();
+      result.gl_frame_ms.push_back(milliseconds_since(start));
+    }
+    result.clraster_ms = median(result.clraster_frame_ms);
+    result.gl_ms = median(result.gl_frame_ms);
+    result.stage_ms = {median_of(stages, &StageTimes::vertex_ms), median_of(stages, &StageTimes::setup_ms),
+                       median_of(stages, &StageTimes::binning_ms), median_of(stages, &StageTimes::raster_ms),
+                       median_of(stages, &StageTimes::other_ms)};
+    run.clraster_picture = ours.picture();
+    run.gl_picture = theirs.picture();
+  }
+  // Once the timed context is gone, so that the two do not hold the scene's memory at once.
+  result.first_frame_ms = time_first_frame(scene, state, options);
+  result.comparison = io::compare_images(run.clraster_picture, run.gl_picture, kTolerance);
+  result.passed = io::within(result.comparison, kTolerance);
+  return run;
+}
+
+double geometric_mean_ratio(const std::vector<SceneResult>& results) {
+  double log_sum = 0;
+  int count = 0;
+  for (const SceneResult& result : results) {
+    if (!result.passed) continue;
+    log_sum += std::log(result.ratio());
+    ++count;
+  }
+  return count == 0 ? std::numeric_limits<double>::quiet_NaN() : std::exp(log_sum / count);
+}
+
+}  // namespace clraster::bench

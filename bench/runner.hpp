@@ -1,0 +1,76 @@
+// Times a benchmark scene drawn by clraster and by Mesa's OpenGL (llvmpipe, headless EGL) in the
+// same process, a frame of one then a frame of the other, and checks that both drew the same
+// picture.
+//
+// A frame is the same for both: clear to (0, 0, 0, 1) and depth 1, one draw from buffers uploaded
+// before, finish (Context::finish, glFinish), timed with steady_clock around the three. Both draw
+// into an RGBA8 colour and a Depth32F depth attachment (no stencil to clear). Nothing is read back
+// inside a frame, and every clraster frame runs every pipeline stage: of an earlier frame the
+// library keeps only what the draw validated, the largest index of the index buffer's range.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bench/scenes.hpp"
+#include "clraster/clraster.hpp"
+#include "io/image_compare.hpp"
+
+namespace clraster::bench {
+
+struct RunOptions {
+  int width = 1920;
+  int height = 1080;
+  int frames = 9;          // timed frames of each renderer (at least 1), after kWarmupFrames
+  ContextOptions context;  // device, memory cap, tile size; profiling is switched on for the timed frames
+};
+
+// Untimed frames of each renderer before the timed ones: the first grows clraster's scratch
+// buffers and has llvmpipe compile its shaders; the second starts from that steady state.
+inline constexpr int kWarmupFrames = 2;
+
+// The pictures must agree within the core pipeline's conformance thresholds.
+inline constexpr io::Tolerance kTolerance = io::kNormalShading;
+
+struct SceneResult {
+  std::string name;
+  std::uint64_t triangles = 0;
+  int width = 0;
+  int height = 0;
+  std::string device;       // clraster's OpenCL device
+  std::string gl_renderer;  // GL_RENDERER and GL_VERSION
+  std::vector<double> clraster_frame_ms;  // the timed frames, in order
+  std::vector<double> gl_frame_ms;
+  double clraster_ms = 0;  // the medians of those
+  double gl_ms = 0;
+  // Per stage, the median over the timed frames of the stage's device time (OpenCL profiling
+  // events); `other` includes the frame's colour clear (the depth clear is a buffer fill, which
+  // the library does not profile).
+  StageTimes stage_ms;
+  // A new Context's first frame: from the Context's construction (programs loaded from the disk
+  // cache, which the timed context filled if it was empty) to the end of its first frame, uploads
+  // included.
+  double first_frame_ms = 0;
+  std::uint64_t peak_memory_bytes = 0;  // the pipeline's intermediate buffers
+  io::ImageComparison comparison;       // clraster's last timed frame against llvmpipe's
+  bool passed = false;                  // comparison is within kTolerance
+
+  double ratio() const { return clraster_ms / gl_ms; }
+};
+
+struct SceneRun {
+  SceneResult result;
+  Image clraster_picture;  // the last timed frames
+  Image gl_picture;
+};
+
+// Runs one scene: a profiling Context and a GlRenderer, kWarmupFrames then options.frames timed
+// frames of each in turn, the pictures compared, then the first frame of a new Context. Throws
+// clraster::Error when either renderer fails.
+SceneRun run_scene(const Scene& scene, const RunOptions& options);
+
+// The geometric mean of the ratios of the scenes that passed; NaN when none did.
+double geometric_mean_ratio(const std::vector<SceneResult>& results);
+
+}  // namespace clraster::bench

@@ -1,0 +1,110 @@
+#include "bench/scenes.hpp"
+
+#include "io/procedural.hpp"
+
+#include <algorithm>
+
+namespace clraster::bench {
+namespace {
+
+io::Camera camera(glm::vec3 eye, glm::vec3 target, float fov_degrees, float near_plane, float far_plane) {
+  io::Camera camera;
+  camera.eye = eye;
+  camera.target = target;
+  camera.fov_degrees = fov_degrees;
+  camera.near_plane = near_plane;
+  camera.far_plane = far_plane;
+  return camera;
+}
+
+// A trefoil: a closed tube of 500 rings of 50 vertices, 2 * 500 * 50 triangles. Its strands are
+// 1.66 apart at their closest, so a tube of radius 0.6 does not meet itself.
+io::Mesh knot() { return io::make_torus_knot(2, 3, 500, 50, 2, 1, 0.6f); }
+
+// A 16 x 16 landscape: about four hills across, up to 0.8 high.
+io::Mesh landscape(int cells) { return io::make_terrain(cells, cells, 16, 16, 0.8f, 7); }
+
+// 16 quads at z = 0, from 1 away (see the camera below) almost five times the view's height and
+// over twice its width at 16:9: every pixel gets 16 fragments.
+io::Mesh layers() { return io::merge(std::vector<io::Mesh>(16, io::make_plane(1, 1, 4, 4))); }
+
+// At 1920x1080 and 45 degrees a pixel is 2 * tan(22.5 degrees) / 1080 of the view distance, so
+// from 2 away (see the camera below) a cell of 1.1 / 1024 is 0.700 pixel: 717 x 358 pixels of
+// triangles of 0.245 square pixels each.
+io::Mesh tiny_cells() { return io::make_plane(1024, 512, 1.1f, 0.55f); }
+
+struct SceneDefinition {
+  std::string name;
+  io::Mesh (*mesh)();
+  io::Camera camera;
+  io::BuiltinShading shading;
+};
+
+const std::vector<SceneDefinition>& definitions() {
+  using io::BuiltinShading;
+  // The landscape is seen at 45 degrees from above with a narrow field of view, so that the
+  // picture's far corners still fall on it: it fills the picture, and about a third of it is in
+  // view.
+  const io::Camera landscape_view = camera({0.0f, 7.4f, 6.9f}, {0.0f, 0.0f, -0.5f}, 30, 1.0f, 30.0f);
+  static const std::vector<SceneDefinition> scenes{
+      // From above at an angle, framed closely as a scanned model would be: the knot covers 37% of
+      // the picture.
+      {"model-50k", knot, camera({0.0f, 5.8f, 5.6f}, {0.0f, 0.0f, 0.7f}, 45, 3.0f, 12.0f), BuiltinShading::Normal},
+      {"terrain-1m", [] { return landscape(708); }, landscape_view, BuiltinShading::Normal},
+      {"terrain-4m", [] { return landscape(1415); }, landscape_view, BuiltinShading::Normal},
+      {"fill-16", layers, camera({0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 45, 0.5f, 2.0f), BuiltinShading::Overdraw},
+      {"tiny-1m", tiny_cells, camera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 45, 1.0f, 3.0f), BuiltinShading::Normal},
+  };
+  return scenes;
+}
+
+std::string known_scenes() {
+  std::string text;
+  for (const std::string& name : scene_names()) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+const SceneDefinition& definition(const std::string& name) {
+  const std::vector<SceneDefinition>& scenes = definitions();
+  const auto found =
+      std::find_if(scenes.begin(), scenes.end(), [&](const SceneDefinition& scene) { return scene.name == name; });
+  if (found == scenes.end()) {
+    throw InvalidArgument("no benchmark scene is called '" + name + "' (scenes: " + known_scenes() + ")");
+  }
+  return *found;
+}
+
+}  // namespace
+
+DrawState Scene::state(int width, int height) const {
+  return io::shading_state(shading, camera, static_cast<float>(width) / static_cast<float>(height));
+}
+
+const std::vector<std::string>& scene_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all;
+    for (const SceneDefinition& scene : definitions()) all.push_back(scene.name);
+    return all;
+  }();
+  return names;
+}
+
+std::vector<std::string> parse_scene_list(const std::string& list) {
+  if (list.empty()) return scene_names();
+  std::vector<std::string> names;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = list.find(',', start);
+    names.push_back(list.substr(start, comma - start));
+    definition(names.back());
+    if (comma == std::string::npos) return names;
+    start = comma + 1;
+  }
+}
+
+Scene make_scene(const std::string& name) {
+  const SceneDefinition& scene = definition(name);
+  return {scene.name, scene.mesh(), scene.camera, scene.shading};
+}
+
+}  // namespace clraster::bench

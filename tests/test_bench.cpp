@@ -1,0 +1,192 @@
+// The benchmark behind `clraster bench`, without timing anything: its scenes have the triangles
+// they advertise, tiny-1m's are at most a pixel, the cameras frame the scenes as described, and
+// the report leaves scenes that failed out of the geometric mean. (tests/test_cli.cpp runs the
+// command itself.)
+#include "bench/report.hpp"
+#include "bench/runner.hpp"
+#include "bench/scenes.hpp"
+#include "io/camera.hpp"
+#include "support/mesh_inspection.hpp"
+#include "support/test_support.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace clraster::bench {
+namespace {
+
+constexpr int kWidth = 1920;
+constexpr int kHeight = 1080;
+
+// Built once per test process: the large ones take a while.
+const Scene& scene(const std::string& name) {
+  static std::map<std::string, Scene> built;
+  auto found = built.find(name);
+  if (found == built.end()) found = built.emplace(name, make_scene(name)).first;
+  return found->second;
+}
+
+// The pixels of `image` that are covered (not black), as a fraction of all.
+double coverage(const Image& image) {
+  return static_cast<double>(test::covered_pixel_count(image)) / (static_cast<double>(image.width) * image.height);
+}
+
+TEST(BenchScenes, NamesInTheirOrder) {
+  EXPECT_EQ(scene_names(), (std::vector<std::string>{"model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m"}));
+  EXPECT_EQ(parse_scene_list(""), scene_names());
+  EXPECT_EQ(parse_scene_list("tiny-1m,model-50k"), (std::vector<std::string>{"tiny-1m", "model-50k"}));
+  for (const char* list : {"teapot", "model-50k,teapot", "model-50k,", "Model-50k"}) {
+    try {
+      parse_scene_list(list);
+      ADD_FAILURE() << list << ": no error";
+    } catch (const InvalidArgument& error) {
+      EXPECT_PRED_FORMAT2(::testing::IsSubstring, "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m)",
+                          error.what());
+    }
+  }
+  EXPECT_THROW(make_scene("teapot"), InvalidArgument);
+}
+
+struct AdvertisedCount {
+  const char* name;
+  std::uint64_t triangles;  // exactly, as the generator makes them
+  std::uint64_t at_least;   // what the scene stands for
+  std::uint64_t at_most;
+};
+
+class BenchSceneTriangles : public ::testing::TestWithParam<AdvertisedCount> {};
+
+TEST_P(BenchSceneTriangles, AreTheAdvertisedCount) {
+  const AdvertisedCount& count = GetParam();
+  const Scene& built = scene(count.name);
+  EXPECT_EQ(built.name, count.name);
+  EXPECT_EQ(built.mesh.triangle_count(), count.triangles);
+  EXPECT_GE(built.mesh.triangle_count(), count.at_least);
+  EXPECT_LE(built.mesh.triangle_count(), count.at_most);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, BenchSceneTriangles,
+    ::testing::Values(AdvertisedCount{"model-50k", 2 * 500 * 50, 45'000, 55'000},
+                      AdvertisedCount{"terrain-1m", 2 * 708 * 708, 1'000'000, 1'100'000},
+                      AdvertisedCount{"terrain-4m", 2 * 1415 * 1415, 4'000'000, 4'100'000},
+                      AdvertisedCount{"fill-16", 16 * 2, 32, 32},
+                      AdvertisedCount{"tiny-1m", 2 * 1024 * 512, 1'000'000, 1'100'000}),
+    [](const auto& info) {
+      std::string name = info.param.name;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
+TEST(BenchScenes, TinyTrianglesAreAtMostOnePixelAndAllInView) {
+  const Scene& tiny = scene("tiny-1m");
+  const glm::dmat4 clip = glm::dmat4(io::projection_matrix(tiny.camera, static_cast<float>(kWidth) / kHeight)) *
+                          glm::dmat4(io::view_matrix(tiny.camera));
+  // Window coordinates at 1920x1080, as the viewport transform gives them.
+  std::vector<glm::dvec2> window(tiny.mesh.vertex_count());
+  for (std::uint32_t v = 0; v < window.size(); ++v) {
+    const glm::dvec4 p = clip * glm::dvec4(test::position(tiny.mesh, v), 1);
+    ASSERT_GT(p.w, 0);
+    window[v] = {(p.x / p.w + 1) * kWidth / 2, (p.y / p.w + 1) * kHeight / 2};
+    ASSERT_TRUE(window[v].x > 0 && window[v].x < kWidth && window[v].y > 0 && window[v].y < kHeight) << "vertex " << v;
+  }
+  double largest = 0;
+  for (std::size_t t = 0; t < tiny.mesh.triangle_count(); ++t) {
+    const glm::dvec2 a = window[tiny.mesh.indices[3 * t]];
+    const glm::dvec2 b = window[tiny.mesh.indices[3 * t + 1]];
+    const glm::dvec2 c = window[tiny.mesh.indices[3 * t + 2]];
+    const double area = std::abs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)) / 2;
+    ASSERT_LE(area, 1.0) << "triangle " << t;
+    const glm::dvec2 extent = glm::max(glm::max(a, b), c) - glm::min(glm::min(a, b), c);
+    ASSERT_LE(std::max(extent.x, extent.y), 1.0) << "triangle " << t;
+    largest = std::max(largest, area);
+  }
+  EXPECT_NEAR(largest, 0.7 * 0.7 / 2, 0.01) << "cells of 0.7 pixel";
+}
+
+// The cameras, checked on pictures drawn smaller (the same view at the same aspect).
+constexpr int kSmallWidth = 384;
+constexpr int kSmallHeight = 216;
+
+Image draw_small(const Scene& drawn) {
+  return test::render_clraster(test::shared_context(), drawn.mesh, drawn.state(kSmallWidth, kSmallHeight), kSmallWidth,
+                               kSmallHeight)
+      .image;
+}
+
+TEST(BenchScenes, ModelCoversAThirdToAHalfOfThePictureAndIsFramed) {
+  const Image picture = draw_small(scene("model-50k"));
+  EXPECT_GE(coverage(picture), 1.0 / 3);
+  EXPECT_LE(coverage(picture), 0.5);
+  // Nothing of the knot touches the picture's edges.
+  const auto background = [&](int x, int y) {
+    const std::uint8_t* pixel = &picture.rgba[4 * (std::size_t(y) * kSmallWidth + x)];
+    return (pixel[0] | pixel[1] | pixel[2]) == 0;
+  };
+  for (int y = 0; y < kSmallHeight; ++y) EXPECT_TRUE(background(0, y) && background(kSmallWidth - 1, y)) << "row " << y;
+  for (int x = 0; x < kSmallWidth; ++x) EXPECT_TRUE(background(x, 0) && background(x, kSmallHeight - 1)) << "column " << x;
+}
+
+TEST(BenchScenes, TerrainFillsThePicture) {
+  EXPECT_EQ(coverage(draw_small(scene("terrain-1m"))), 1.0);
+  // terrain-4m is the same landscape more finely sampled, from the same camera.
+  const Scene& fine = scene("terrain-4m");
+  const Scene& coarse = scene("terrain-1m");
+  EXPECT_EQ(fine.camera.eye, coarse.camera.eye);
+  EXPECT_EQ(fine.camera.target, coarse.camera.target);
+  EXPECT_EQ(fine.camera.fov_degrees, coarse.camera.fov_degrees);
+  const io::BoundingSphere fine_bounds = io::bounding_sphere(fine.mesh);
+  const io::BoundingSphere coarse_bounds = io::bounding_sphere(coarse.mesh);
+  EXPECT_NEAR(fine_bounds.radius, coarse_bounds.radius, 0.01f);
+}
+
+TEST(BenchScenes, FillDrawsSixteenFragmentsOnEveryPixel) {
+  const Image picture = draw_small(scene("fill-16"));
+  for (std::size_t p = 0; p < picture.rgba.size(); p += 4) ASSERT_EQ(picture.rgba[p], 16) << "pixel " << p / 4;
+}
+
+SceneResult result(const char* name, double clraster_ms, double gl_ms, bool passed) {
+  SceneResult r;
+  r.name = name;
+  r.triangles = 1234567;
+  r.width = kWidth;
+  r.height = kHeight;
+  r.clraster_ms = clraster_ms;
+  r.gl_ms = gl_ms;
+  r.passed = passed;
+  r.comparison.coverage_mismatch = passed ? 0 : 0.25;
+  return r;
+}
+
+TEST(BenchReport, FailedScenesHaveNoRatioAndAreLeftOutOfTheMean) {
+  const std::vector<SceneResult> results{result("a", 2, 1, true), result("b", 1, 2, false), result("c", 8, 1, true)};
+  EXPECT_DOUBLE_EQ(geometric_mean_ratio(results), 4.0);
+  EXPECT_TRUE(std::isnan(geometric_mean_ratio({result("b", 1, 2, false)})));
+
+  std::ostringstream table;
+  for (const SceneResult& r : results) print_table_row(table, r);
+  print_table_foot(table, results);
+  EXPECT_PRED_FORMAT2(::testing::IsSubstring, "1,234,567", table.str());
+  EXPECT_PRED_FORMAT2(::testing::IsSubstring, "FAILED: the pictures differ: coverage mismatch 0.2500 (at most 0.002)", table.str());
+  EXPECT_PRED_FORMAT2(::testing::IsSubstring, "(clraster / llvmpipe): 4.00 over 2 scenes (failed scenes are left out)", table.str());
+
+  const nlohmann::json json = nlohmann::json::parse(to_json(RunOptions{}, results));
+  ASSERT_EQ(json.at("scenes").size(), 3u);
+  EXPECT_DOUBLE_EQ(json["scenes"][0]["ratio"].get<double>(), 2.0);
+  EXPECT_TRUE(json["scenes"][1]["ratio"].is_null());
+  EXPECT_FALSE(json["scenes"][1]["passed"].get<bool>());
+  EXPECT_DOUBLE_EQ(json["geomean_ratio"].get<double>(), 4.0);
+  EXPECT_TRUE(nlohmann::json::parse(to_json(RunOptions{}, {result("b", 1, 2, false)}))["geomean_ratio"].is_null());
+}
+
+}  // namespace
+}  // namespace clraster::bench
