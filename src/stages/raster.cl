@@ -33,7 +33,7 @@
 #endif
 
 /* Edge functions of the pixel centre (x, y): e[k] = 2 * area * screen barycentric k. */
-inline void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
+__attribute__((always_inline)) inline void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
   const long X = (long)x << CLR_SUBPIXEL_BITS;
   const long Y = (long)y << CLR_SUBPIXEL_BITS;
   for (int k = 0; k < 3; ++k) e[k] = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
@@ -92,12 +92,12 @@ inline ulong own_pixels(uint word, uint item) {
 }
 
 /* Edge k's function at (X, Y) for the vertices before snapping, from its value e for the snapped ones. */
-inline float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
+__attribute__((always_inline)) inline float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
   return (float)e + (t->edge_correction[k][0] * X + t->edge_correction[k][1] * Y + t->edge_correction[k][2]);
 }
 
 /* Varying float j weighted by w (used by the generated clr_interpolate_varyings). */
-inline float clr_weighted_varying(const __local SetupTriangle* t, int j, float3 w) {
+__attribute__((always_inline)) inline float clr_weighted_varying(const __local SetupTriangle* t, int j, float3 w) {
   return w.x * t->varyings[0][j] + w.y * t->varyings[1][j] + w.z * t->varyings[2][j];
 }
 
@@ -119,7 +119,7 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
 
 /* Stencil test, then depth test, with their stencil operations and the depth write; true when the
  * fragment passes both. */
-inline bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
+__attribute__((always_inline)) inline bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
                            __local uchar* stencil) {
   __constant const StencilUniforms* s = &u->stencil[f->front_facing ? 0 : 1];
   const bool stencil_passes = !u->stencil_test || clr_stencil_test(*s, *stencil);
@@ -137,7 +137,7 @@ inline bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __
 /* Output `target` of a fragment into a normalized or float attachment: blending (OpenGL's
  * equations, or the program's blend function for channels whose equation is CLR_BLEND_PROGRAM),
  * the write mask, and quantization to the attachment's format. */
-void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local uint4* tile, uint lane,
+__attribute__((always_inline)) inline void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local uint4* tile, uint lane,
                             __constant const DrawUniforms* u) {
   const int format = u->target_format[target];
   if (format < 0) return;
@@ -171,7 +171,7 @@ void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
-void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uint lane,
+__attribute__((always_inline)) inline void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uint lane,
                               __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
   __local uint4* pixel = &tile[target * CLR_TILE_PIXELS + lane];
@@ -181,7 +181,7 @@ void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uin
 /* One fragment of triangle t at this work-item's pixel (x, y) with edge values e. `live`: the
  * triangle covers the pixel and the pixel is writable; otherwise this is a helper invocation
  * (quad shading only). */
-inline void process_fragment(const __local SetupTriangle* t, int x, int y, uint lane, bool live, clr_fragment* f,
+__attribute__((always_inline)) inline void process_fragment(const __local SetupTriangle* t, int x, int y, uint lane, bool live, clr_fragment* f,
                              __local uint4* tile_color, __local float* depth, __local uchar* stencil,
                              __constant const DrawUniforms* u) {
   long e[3];
