@@ -46,7 +46,7 @@
 #ifdef CLR_SCAN_GROUP_SIZE
 #define CLR_SCAN_ITEMS (CLR_SCAN_BLOCK / CLR_SCAN_GROUP_SIZE) /* elements per work-item */
 #endif
-#define CLR_RADIX_BITS 4          /* bits of the tile key sorted per radix pass */
+#define CLR_RADIX_BITS 5          /* bits of the tile key sorted per radix pass: 1080p's 32,400 tiles in 3 */
 #define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
 #define CLR_CLEAR_TEXELS_PER_ITEM 256 /* texels one work-item of a clear writes */
 

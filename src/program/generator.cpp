@@ -190,20 +190,26 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
       << " * weights. Flat varyings hold the provoking vertex's value in all three vertices. */\n"
       << "void clr_interpolate_varyings(const __local SetupTriangle* t, float3 pw, float norm, float3 l, "
          "clr_varyings* v) {\n";
+  // Each varying in one assignment, a vector literal for vectors: the program reads it whole, and a
+  // vector written by one store is forwarded to that load, where one written a component at a time
+  // makes the load wait for the stores to reach the cache.
   for (const ProgramVariable& v : in.varyings) {
     const VectorType vector = vector_type(v.type);
+    out << "  v->" << v.name << " = ";
+    if (vector.components > 1) out << "(" << v.type << ")(";
     for (int c = 0; c < vector.components; ++c) {
       const std::size_t j = v.offset + static_cast<std::size_t>(c);
-      out << "  " << component("v->" + v.name, vector.components, c) << " = ";
+      if (c > 0) out << ", ";
       if (v.interpolation == "flat") {
         out << (vector.scalar == "float" ? "" : "as_" + vector.scalar + "(") << "t->varyings[0][" << j << "]"
-            << (vector.scalar == "float" ? "" : ")") << ";\n";
+            << (vector.scalar == "float" ? "" : ")");
       } else if (v.interpolation == "noperspective") {
-        out << "clr_weighted_varying(t, " << j << ", l);\n";
+        out << "clr_weighted_varying(t, " << j << ", l)";
       } else {
-        out << "clr_weighted_varying(t, " << j << ", pw) * norm;\n";
+        out << "clr_weighted_varying(t, " << j << ", pw) * norm";
       }
     }
+    out << (vector.components > 1 ? ");\n" : ";\n");
   }
   out << "}\n\n";
 
