@@ -1,6 +1,6 @@
 // Scale: a million triangles under the smallest memory cap are drawn in chunks, within the cap,
 // with the same picture as in one piece; renders are bit-identical run after run, in one process
-// and across processes, thread counts, tile sizes and memory caps; and four million triangles
+// and across processes, thread counts, tile sizes, memory caps and work-group shapes; and four million triangles
 // match OpenGL.
 #include "io/camera.hpp"
 #include "io/image_io.hpp"
@@ -93,6 +93,22 @@ TEST(Determinism, TheSameRenderTwiceInOneProcessIsBitIdentical) {
     const Image first = render(shared_context(), scene).image;
     ASSERT_TRUE(mostly_covered(first));
     EXPECT_TRUE(images_match(render(shared_context(), scene).image, first, kExact));
+  }
+}
+
+// The GPU's work-group shapes (a work-item per pixel of a tile, 256 per block of a scan or sort) run
+// the same arithmetic in another order of work-items: the pictures are the same, bit for bit, with
+// a depth test, without one, and counting every fragment.
+TEST(Determinism, WideWorkGroupsDrawTheSamePictures) {
+  Scene overdraw = landscape(300);
+  DrawState counter = overdraw_counter();
+  counter.model_view = overdraw.state.model_view;
+  counter.projection = overdraw.state.projection;
+  overdraw.state = counter;
+  for (const Scene& scene : {landscape(708), pile_of_triangles(), overdraw}) {
+    const Image device = render(shared_context(), scene).image;
+    ASSERT_TRUE(mostly_covered(device));
+    EXPECT_TRUE(images_match(render(shared_context(WorkGroupShape::Wide), scene).image, device, kExact));
   }
 }
 

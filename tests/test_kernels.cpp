@@ -64,7 +64,7 @@ class KernelTest : public ::testing::Test {
  protected:
   void SetUp() override { program_ = build_test_program("kernel unit tests", builtin_stage_program() + kTestKernels); }
 
-  ContextState& state() { return *shared_context().impl().state; }
+  virtual ContextState& state() { return *shared_context().impl().state; }
 
   // A device copy of `data`, padded to at least 16 bytes.
   template <typename T>
@@ -283,7 +283,17 @@ TEST(Rasterization, PixelCentresOnEdgesFollowTheLeftBottomRule) {
 
 // ---- Scan and radix sort ----------------------------------------------------------------------------
 
-TEST_F(KernelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
+// The scans and the sort in both work-group shapes: the device's (one work-item per block on a CPU)
+// and the GPU's (256 per block).
+class ParallelTest : public KernelTest, public ::testing::WithParamInterface<WorkGroupShape> {
+ protected:
+  ContextState& state() override { return *shared_context(GetParam()).impl().state; }
+};
+
+INSTANTIATE_TEST_SUITE_P(Shapes, ParallelTest, ::testing::Values(WorkGroupShape::Device, WorkGroupShape::Wide),
+                         [](const auto& info) { return info.param == WorkGroupShape::Device ? "Device" : "Wide"; });
+
+TEST_P(ParallelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
   ContextState& s = state();
   parallel::Scan scan(state().core_program());
   cl::Buffer counters = buffer(std::vector<cl_uint>(CLR_COUNTER_COUNT));
@@ -303,7 +313,7 @@ TEST_F(KernelTest, ExclusiveScanMatchesTheHostAcrossBlockBoundaries) {
   }
 }
 
-TEST_F(KernelTest, ExclusiveScanSaturatesInsteadOfWrapping) {
+TEST_P(ParallelTest, ExclusiveScanSaturatesInsteadOfWrapping) {
   // Bin pair counts can add up past 2^32: offsets must stay monotone so the host can split there.
   ContextState& s = state();
   parallel::Scan scan(state().core_program());
@@ -321,7 +331,7 @@ TEST_F(KernelTest, ExclusiveScanSaturatesInsteadOfWrapping) {
   EXPECT_EQ(read<cl_uint>(counters, 1)[CLR_COUNTER_SCAN_TOTAL], 0xffffffffu);
 }
 
-TEST_F(KernelTest, RadixSortIsStable) {
+TEST_P(ParallelTest, RadixSortIsStable) {
   ContextState& s = state();
   parallel::Scan scan(state().core_program());
   parallel::RadixSort sort(state().core_program(), scan);

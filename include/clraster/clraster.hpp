@@ -80,9 +80,16 @@ std::vector<DeviceInfo> list_devices();
 
 inline constexpr std::size_t kDefaultMemoryCap = std::size_t{256} << 20;
 inline constexpr std::size_t kMinMemoryCap = std::size_t{4} << 20;
-// 8x8-pixel tiles: small triangles are tested against few pixels, and a tile is one 64-wide
-// work-group, the shape both GPUs and PoCL's vectorizer like.
+// 8x8-pixel tiles: small triangles are tested against few pixels, and a tile's coverage by a
+// triangle is one 64-bit mask.
 inline constexpr int kDefaultTileSize = 8;
+
+// How many work-items the pipeline's kernels put in a work-group. Device: the device's own shapes
+// (on GPUs a work-item per pixel of a tile and 256 per block of a scan or sort; on CPUs one
+// work-item looping over them, which PoCL runs faster). Wide: the GPU shapes on any device, to test
+// them on a CPU, or for a CPU OpenCL whose compiler vectorizes across work-items. Both draw the
+// same pictures, bit for bit.
+enum class WorkGroupShape { Device, Wide };
 
 struct ContextOptions {
   // Index into list_devices(). -1 takes the CLRASTER_DEVICE environment variable when it is set,
@@ -100,6 +107,7 @@ struct ContextOptions {
   std::string cache_dir;
   // Measure each pipeline stage's device time (DrawStats::stage_times). Costs a little per command.
   bool profile = false;
+  WorkGroupShape work_group_shape = WorkGroupShape::Device;
 };
 
 // A device, its command queue, the built pipeline programs and the pipeline's scratch memory.

@@ -45,14 +45,17 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
   }
 }
 
-bool ContextState::cpu_device() const { return (device.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0; }
+bool ContextState::cpu_shapes() const {
+  return options.work_group_shape == WorkGroupShape::Device &&
+         (device.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
+}
 
-std::size_t ContextState::scan_items() const { return cpu_device() ? CLR_SCAN_CPU_ITEMS : CLR_SCAN_GPU_ITEMS; }
+std::size_t ContextState::scan_items() const { return cpu_shapes() ? CLR_SCAN_CPU_ITEMS : CLR_SCAN_GPU_ITEMS; }
 
 std::string ContextState::build_options() const {
   // Work-group shapes are the device's (clr_limits.h): kernels take them as constants, the host
   // reads them back from each kernel (cl_host::compiled_group_size).
-  const int raster_items = cpu_device() ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
+  const int raster_items = cpu_shapes() ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
   return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size) +
          " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items) + " -DCLR_SCAN_GROUP_SIZE=" +
          std::to_string(scan_items());

@@ -32,7 +32,7 @@ struct ContextState : std::enable_shared_from_this<ContextState> {
   const Program& builtin_program();
   // Build options every program of this context gets.
   std::string build_options() const;
-  bool cpu_device() const;
+  bool cpu_shapes() const;         // the work-group shapes of a CPU device (clr_limits.h)
   std::size_t scan_items() const;  // work-items per block of scans and sorts (clr_limits.h)
 
  private:

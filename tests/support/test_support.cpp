@@ -83,6 +83,12 @@ Context& shared_context() {
   return context;
 }
 
+Context& shared_context(WorkGroupShape shape) {
+  if (shape == WorkGroupShape::Device) return shared_context();
+  static Context context(ContextOptions{.work_group_shape = shape});
+  return context;
+}
+
 RenderResult render_clraster(Context& context, const io::Mesh& mesh, const DrawState& state, int width, int height,
                              Topology topology) {
   const VertexBuffer vertices(context, mesh.positions, mesh.normals);

@@ -21,6 +21,9 @@ namespace clraster::test {
 
 // The context every test of the process shares (default options, device from CLRASTER_DEVICE).
 Context& shared_context();
+// The same with the work-group shape given: the shared context for WorkGroupShape::Device, else one
+// more context, shared too, with the GPU shapes whatever the device (ContextOptions::work_group_shape).
+Context& shared_context(WorkGroupShape shape);
 
 // The generated stage program of the built-in program: what kernel unit tests append their test
 // kernels to, so they call the stages' real functions.
