@@ -32,8 +32,10 @@ __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
 void radix_scatter(__global const uint* keys_in, __global const uint* values_in, uint count, uint shift,
                    __global const uint* digit_offsets, uint block_count, __global uint* keys_out,
                    __global uint* values_out) {
-  /* counts[digit * GROUP + item]: pairs of that digit among the item's consecutive pairs. */
-  __local uint counts[CLR_RADIX_BUCKETS * CLR_SCAN_GROUP_SIZE];
+  /* counts[digit * GROUP + item]: pairs of that digit among the item's consecutive pairs, then their
+   * exclusive scan. 16 bits hold any count within a block, and keep the array within the 32 KiB of
+   * local memory small GPUs have. */
+  __local ushort counts[CLR_RADIX_BUCKETS * CLR_SCAN_GROUP_SIZE];
   __local uint scratch[CLR_SCAN_GROUP_SIZE];
   const uint lid = get_local_id(0);
   const uint begin = get_group_id(0) * CLR_SCAN_BLOCK + lid * CLR_SCAN_ITEMS;
@@ -43,7 +45,7 @@ void radix_scatter(__global const uint* keys_in, __global const uint* values_in,
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     if (begin + i < count) ++own[radix_digit(keys_in[begin + i], shift)];
   }
-  for (uint d = 0; d < CLR_RADIX_BUCKETS; ++d) counts[d * CLR_SCAN_GROUP_SIZE + lid] = own[d];
+  for (uint d = 0; d < CLR_RADIX_BUCKETS; ++d) counts[d * CLR_SCAN_GROUP_SIZE + lid] = (ushort)own[d];
   barrier(CLK_LOCAL_MEM_FENCE);
 
   /* Exclusive scan of counts[] in digit-major order: item lid scans its run of
@@ -55,7 +57,7 @@ void radix_scatter(__global const uint* keys_in, __global const uint* values_in,
   uint running = work_group_exclusive_scan(run_sum, scratch, &ignored_total);
   for (uint i = 0; i < CLR_RADIX_BUCKETS; ++i) {
     const uint value = counts[run + i];
-    counts[run + i] = running;
+    counts[run + i] = (ushort)running;
     running += value;
   }
   barrier(CLK_LOCAL_MEM_FENCE);
