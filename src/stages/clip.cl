@@ -13,7 +13,7 @@ typedef struct {
 } ClipVertex;
 
 /* Signed distance of a clip-space position to plane `plane`: >= 0 inside. */
-__attribute__((always_inline)) inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_max) {
+inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_max) {
   switch (plane) {
     case 0: return p.z + p.w;                 /* near */
     case 1: return p.w - p.z;                 /* far */
@@ -25,7 +25,7 @@ __attribute__((always_inline)) inline float clip_distance(float4 p, int plane, f
 }
 
 /* Bit k set: the position is outside plane k. */
-__attribute__((always_inline)) inline uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
+inline uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
   uint code = 0;
   for (int plane = 0; plane < CLR_CLIP_PLANES; ++plane) {
     if (clip_distance(p, plane, guard_min, guard_max) < 0.0f) code |= 1u << plane;
@@ -81,7 +81,7 @@ int clip_polygon(ClipVertex* poly, int count, uint planes, float2 guard_min, flo
  * then used bit for bit, unclipped), CLR_CLIP_REJECTED when all three vertices are outside one
  * plane, else the mask of planes to clip against. */
 #define CLR_CLIP_REJECTED 0xffffffffu
-__attribute__((always_inline)) inline uint triangle_clip_planes(const ClipVertex* tri, float2 guard_min, float2 guard_max) {
+inline uint triangle_clip_planes(const ClipVertex* tri, float2 guard_min, float2 guard_max) {
   const uint c0 = clip_outcode(tri[0].position, guard_min, guard_max);
   const uint c1 = clip_outcode(tri[1].position, guard_min, guard_max);
   const uint c2 = clip_outcode(tri[2].position, guard_min, guard_max);

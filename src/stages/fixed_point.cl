@@ -16,7 +16,7 @@ typedef struct {
 
 /* Returns false when the position cannot be projected (w = 0: only a vertex at the origin of clip
  * space survives clipping with w = 0). */
-__attribute__((always_inline)) inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
+inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
   const float inv_w = 1.0f / v->position.w;
   const float x = v->position.x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
   const float y = v->position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
@@ -32,13 +32,13 @@ __attribute__((always_inline)) inline bool project_vertex(const ClipVertex* v, _
 }
 
 /* Twice the signed area of the snapped triangle: positive when counter-clockwise (y up). */
-__attribute__((always_inline)) inline long double_area(int2 a, int2 b, int2 c) {
+inline long double_area(int2 a, int2 b, int2 c) {
   return (long)(b.x - a.x) * (long)(c.y - a.y) - (long)(c.x - a.x) * (long)(b.y - a.y);
 }
 
 /* Pixels whose centres the snapped triangle's bounding box contains, clipped to the draw's
  * writable rectangle: [min.x, max.x] x [min.y, max.y], empty when min > max. */
-__attribute__((always_inline)) inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* u, int2* lo, int2* hi) {
+inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* u, int2* lo, int2* hi) {
   const int2 fixed_min = min(a, min(b, c));
   const int2 fixed_max = max(a, max(b, c));
   /* Centre of pixel i is at i * ONE: the first centre >= min is ceil(min / ONE). */
@@ -56,7 +56,7 @@ typedef struct {
 /* Face culling and emptiness: a triangle survives when it has non-zero snapped area, is not culled
  * by its facing, and its bounding box contains a writable pixel centre. Small triangles are never
  * dropped for being small: any with non-zero area may cover a centre. */
-__attribute__((always_inline)) inline bool triangle_survives(const WindowVertex* a, const WindowVertex* b, const WindowVertex* c,
+inline bool triangle_survives(const WindowVertex* a, const WindowVertex* b, const WindowVertex* c,
                               __constant const DrawUniforms* u, TriangleExtent* extent) {
   extent->double_area = double_area(a->fixed, b->fixed, c->fixed);
   if (extent->double_area == 0) return false;
@@ -69,7 +69,7 @@ __attribute__((always_inline)) inline bool triangle_survives(const WindowVertex*
 /* Whether a pixel centre exactly on the edge from a to b (counter-clockwise triangle, y up) belongs
  * to the triangle: yes for left edges (going down) and bottom edges (horizontal, going right). This
  * is llvmpipe's top-left rule seen in OpenGL's y-up window coordinates. */
-__attribute__((always_inline)) inline bool edge_includes_centres(int2 a, int2 b) {
+inline bool edge_includes_centres(int2 a, int2 b) {
   const int dx = b.x - a.x;
   const int dy = b.y - a.y;
   return dy < 0 || (dy == 0 && dx > 0);

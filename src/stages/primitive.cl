@@ -16,7 +16,7 @@ inline uint3 primitive_stream_positions(int topology, uint p) {
 }
 
 /* Where the vertex stage put the vertex of a stream position (SlotMap, types.h; vertex.cl). */
-__attribute__((always_inline)) inline uint vertex_slot(uint position, const SlotMap* slots, __global const uchar* indices,
+inline uint vertex_slot(uint position, const SlotMap* slots, __global const uchar* indices,
                         __constant const DrawUniforms* u) {
   if (slots->shade_all) {
     const uint element = u->first + position;
@@ -26,7 +26,7 @@ __attribute__((always_inline)) inline uint vertex_slot(uint position, const Slot
   return position - slots->stream_begin;
 }
 
-__attribute__((always_inline)) inline bool load_clip_vertex(__global const float4* shaded, uint slot, ClipVertex* v) {
+inline bool load_clip_vertex(__global const float4* shaded, uint slot, ClipVertex* v) {
   __global const float4* in = shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
   v->position = in[0];
   __global const float* varyings = (__global const float*)(in + 1);
@@ -36,7 +36,7 @@ __attribute__((always_inline)) inline bool load_clip_vertex(__global const float
 
 /* The three clip-space vertices of primitive p. False when one has a non-finite position: the
  * primitive is dropped (and counted). */
-__attribute__((always_inline)) inline bool assemble_primitive(uint p, const SlotMap* slots, __global const uchar* indices, __global const float4* shaded,
+bool assemble_primitive(uint p, const SlotMap* slots, __global const uchar* indices, __global const float4* shaded,
                         __constant const DrawUniforms* u, ClipVertex* triangle) {
   const uint3 positions = primitive_stream_positions(u->topology, p);
   bool finite = load_clip_vertex(shaded, vertex_slot(positions.x, slots, indices, u), &triangle[0]);

@@ -9,7 +9,7 @@
 
 /* Writes the record of a triangle that survived culling (which measured `extent`); returns the
  * number of tiles its bounding box touches. */
-__attribute__((always_inline)) inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
+inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
                                  const TriangleExtent* extent, uint primitive_id, __constant const DrawUniforms* u,
                                  __global SetupTriangle* out) {
   long area = extent->double_area;
