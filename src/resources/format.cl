@@ -21,7 +21,7 @@ typedef struct {
   int channel_type; /* CLR_CHANNEL_* */
 } clr_texel_layout;
 
-__attribute__((always_inline)) inline clr_texel_layout clr_texel_layout_of(int format) {
+CLR_INLINE clr_texel_layout clr_texel_layout_of(int format) {
   clr_texel_layout layout = {0, CLR_CHANNEL_UNORM8};
   switch (format) {
 #define CLR_TEXEL_LAYOUT_ROW(id, name, count, type, depth, stencil) \
@@ -35,7 +35,7 @@ __attribute__((always_inline)) inline clr_texel_layout clr_texel_layout_of(int f
   return layout;
 }
 
-__attribute__((always_inline)) inline bool clr_channel_is_integer(int type) { return type == CLR_CHANNEL_SINT32 || type == CLR_CHANNEL_UINT32; }
+CLR_INLINE bool clr_channel_is_integer(int type) { return type == CLR_CHANNEL_SINT32 || type == CLR_CHANNEL_UINT32; }
 
 /* ---- A texel's stored bits --------------------------------------------------------------------------
  * Channel c of the texel in bits.s[c], as stored (zero-extended); channels the format lacks are 0.
@@ -46,7 +46,7 @@ __attribute__((always_inline)) inline bool clr_channel_is_integer(int type) { re
   else if (layout.channels == 2) bits.xy = convert_uint2(vload2(index, (__global const T*)data)); \
   else if (layout.channels == 1) bits.x = ((__global const T*)data)[index];
 
-__attribute__((always_inline)) inline uint4 clr_read_texel(clr_texel_layout layout, __global const uchar* data, uint index) {
+CLR_INLINE uint4 clr_read_texel(clr_texel_layout layout, __global const uchar* data, uint index) {
   uint4 bits = (uint4)(0u);
   switch (CLR_CHANNEL_BYTES(layout.channel_type)) {
     case 1: CLR_READ_CHANNELS(uchar) break;
@@ -62,7 +62,7 @@ __attribute__((always_inline)) inline uint4 clr_read_texel(clr_texel_layout layo
   else if (layout.channels == 2) vstore2(convert2(bits.xy), index, (__global T*)data); \
   else if (layout.channels == 1) ((__global T*)data)[index] = (T)bits.x;
 
-__attribute__((always_inline)) inline void clr_write_texel(clr_texel_layout layout, __global uchar* data, uint index, uint4 bits) {
+CLR_INLINE void clr_write_texel(clr_texel_layout layout, __global uchar* data, uint index, uint4 bits) {
   switch (CLR_CHANNEL_BYTES(layout.channel_type)) {
     case 1: CLR_WRITE_CHANNELS(uchar, convert_uchar2, convert_uchar4) break;
     case 2: CLR_WRITE_CHANNELS(ushort, convert_ushort2, convert_ushort4) break;
@@ -118,7 +118,7 @@ __constant float clr_srgb_to_linear_table[256] = {
 /* OpenGL's float to unorm8 conversion: the nearest byte to clamp(x, 0, 1) * 255, ties to even as
  * llvmpipe rounds them (for half of the 256 values (i + 0.5f) / 255 the float product is a tie), in
  * clears and fragment stores alike. fmax turns NaN into 0. */
-__attribute__((always_inline)) inline uint4 clr_float_to_unorm8(float4 x) { return convert_uint4_rte(fmin(fmax(x, 0.0f), 1.0f) * 255.0f); }
+CLR_INLINE uint4 clr_float_to_unorm8(float4 x) { return convert_uint4_rte(fmin(fmax(x, 0.0f), 1.0f) * 255.0f); }
 
 /* OpenGL's linear to sRGB encoding, before the unorm8 conversion (which clamps what is below 0 or
  * above 1, and NaN). */
@@ -126,7 +126,7 @@ float4 clr_linear_to_srgb(float4 linear) {
   return select(1.055f * powr(linear, 1.0f / 2.4f) - 0.055f, 12.92f * linear, linear < 0.0031308f);
 }
 
-__attribute__((always_inline)) inline uint4 clr_encode_texel(int type, float4 value) {
+CLR_INLINE uint4 clr_encode_texel(int type, float4 value) {
   switch (type) {
     case CLR_CHANNEL_UNORM8: return clr_float_to_unorm8(value);
     case CLR_CHANNEL_SRGB8: return clr_float_to_unorm8((float4)(clr_linear_to_srgb(value).xyz, value.w));
@@ -139,7 +139,7 @@ __attribute__((always_inline)) inline uint4 clr_encode_texel(int type, float4 va
   }
 }
 
-__attribute__((always_inline)) inline float4 clr_decode_texel(int type, uint4 bits) {
+CLR_INLINE float4 clr_decode_texel(int type, uint4 bits) {
   switch (type) {
     case CLR_CHANNEL_UNORM8: return convert_float4(bits) / 255.0f;
     case CLR_CHANNEL_SRGB8:
@@ -156,25 +156,25 @@ __attribute__((always_inline)) inline float4 clr_decode_texel(int type, uint4 bi
 /* ---- Whole texels ---------------------------------------------------------------------------------- */
 
 /* Channels a format lacks decode to 0 (every type decodes zero bits to 0); alpha becomes 1. */
-__attribute__((always_inline)) inline float4 clr_complete_texel(clr_texel_layout layout, float4 value) {
+CLR_INLINE float4 clr_complete_texel(clr_texel_layout layout, float4 value) {
   if (layout.channels < 4) value.w = 1.0f;
   return value;
 }
 
-__attribute__((always_inline)) inline float4 clr_load_texel_float(int format, __global const uchar* data, uint index) {
+CLR_INLINE float4 clr_load_texel_float(int format, __global const uchar* data, uint index) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
   if (clr_channel_is_integer(layout.channel_type)) return (float4)(0.0f, 0.0f, 0.0f, 1.0f);
   return clr_complete_texel(layout, clr_decode_texel(layout.channel_type, clr_read_texel(layout, data, index)));
 }
 
-__attribute__((always_inline)) inline void clr_store_texel_float(int format, __global uchar* data, uint index, float4 value) {
+CLR_INLINE void clr_store_texel_float(int format, __global uchar* data, uint index, float4 value) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
   if (clr_channel_is_integer(layout.channel_type)) return;
   clr_write_texel(layout, data, index, clr_encode_texel(layout.channel_type, value));
 }
 
 /* What clr_store_texel_float followed by clr_load_texel_float gives, without the memory. */
-__attribute__((always_inline)) inline float4 clr_quantize_float(int format, float4 value) {
+CLR_INLINE float4 clr_quantize_float(int format, float4 value) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
   if (clr_channel_is_integer(layout.channel_type)) return (float4)(0.0f, 0.0f, 0.0f, 1.0f);
   const float4 decoded = clr_decode_texel(layout.channel_type, clr_encode_texel(layout.channel_type, value));

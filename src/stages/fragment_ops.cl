@@ -15,7 +15,7 @@
  * `fragment` func `stored`, in GL's operand order (LESS passes when fragment < stored). IEEE rules:
  * -0 equals +0, and every ordered comparison with a NaN fails, so only NOTEQUAL and ALWAYS pass a
  * NaN. CLR_COMPARE_PROGRAM is the caller's business; here it passes, like ALWAYS. */
-__attribute__((always_inline)) inline bool clr_compare(int func, float fragment, float stored) {
+CLR_INLINE bool clr_compare(int func, float fragment, float stored) {
   switch (func) {
     case CLR_COMPARE_NEVER: return false;
     case CLR_COMPARE_LESS: return fragment < stored;
@@ -32,20 +32,20 @@ __attribute__((always_inline)) inline bool clr_compare(int func, float fragment,
 
 /* (reference & read_mask) func (stored & read_mask). Values below 2^8 are exact in float, so the
  * depth test's comparison serves both. */
-__attribute__((always_inline)) inline bool clr_stencil_test(StencilUniforms s, uint stored) {
+CLR_INLINE bool clr_stencil_test(StencilUniforms s, uint stored) {
   return clr_compare(s.func, (float)(s.reference & s.read_mask), (float)(stored & s.read_mask));
 }
 
 /* Which of the face's three ops applies. A fragment that fails the stencil test never reaches the
  * depth test; pass depth_passed = true when there is no depth test (disabled or no depth buffer). */
-__attribute__((always_inline)) inline int clr_stencil_op(StencilUniforms s, bool stencil_passed, bool depth_passed) {
+CLR_INLINE int clr_stencil_op(StencilUniforms s, bool stencil_passed, bool depth_passed) {
   if (!stencil_passed) return s.stencil_fail;
   return depth_passed ? s.depth_pass : s.depth_fail;
 }
 
 /* The stencil value after `op` (CLR_STENCIL_*), keeping the bits write_mask protects. INCR and DECR
  * saturate at 255 and 0; the _WRAP ops wrap modulo 256. */
-__attribute__((always_inline)) inline uint clr_stencil_update(StencilUniforms s, int op, uint stored) {
+CLR_INLINE uint clr_stencil_update(StencilUniforms s, int op, uint stored) {
   uint value;
   switch (op) {
     case CLR_STENCIL_ZERO: value = 0u; break;
@@ -93,7 +93,7 @@ __attribute__((always_inline)) inline uint clr_stencil_update(StencilUniforms s,
 /* One blend factor (table 17.2) for all four channels: the rgb factor is its .xyz and the alpha
  * factor its .w, so the same function serves the rgb and the alpha factor of the state. Colours are
  * in units where `one` is full intensity: 1, or 255 for 8-bit values. */
-__attribute__((always_inline)) inline float4 blend_factor(int factor, float4 source, float4 destination, float4 constant_color, float one) {
+CLR_INLINE float4 blend_factor(int factor, float4 source, float4 destination, float4 constant_color, float one) {
   switch (factor) {
     case CLR_FACTOR_ZERO: return (float4)(0.0f);
     case CLR_FACTOR_SRC_COLOR: return source;
@@ -117,7 +117,7 @@ __attribute__((always_inline)) inline float4 blend_factor(int factor, float4 sou
 }
 
 /* llvmpipe's product of two 8-bit values, (ab + (ab >> 8) + 128) >> 8, on integers held in floats. */
-__attribute__((always_inline)) inline float4 mul_unorm8(float4 a, float4 b) {
+CLR_INLINE float4 mul_unorm8(float4 a, float4 b) {
   const float4 ab = a * b;
   return floor((ab + floor(ab / 256.0f) + 128.0f) / 256.0f);
 }
@@ -142,8 +142,8 @@ inline bool plain_factor(int f) { return f == CLR_FACTOR_ONE || (f % 2 == 0 && f
  *                                   REVERSE_SUBTRACT (float only): d - (s + d) * f, or (s + d) * f - s.
  * unorm8: colours and factors are 8-bit values (one = 255). Returns false, leaving *out alone, where
  * llvmpipe blends as written. */
-__attribute__((always_inline)) inline bool regrouped_blend(int equation, int source_factor_id, int destination_factor_id, float4 s, float4 d,
-                            float4 source_factor, float4 destination_factor, bool unorm8, float4* out) {
+CLR_INLINE bool regrouped_blend(int equation, int source_factor_id, int destination_factor_id, float4 s, float4 d,
+                                float4 source_factor, float4 destination_factor, bool unorm8, float4* out) {
   if (equation != CLR_BLEND_ADD && (unorm8 || (equation != CLR_BLEND_SUBTRACT &&
                                                equation != CLR_BLEND_REVERSE_SUBTRACT))) {
     return false;
@@ -172,9 +172,9 @@ __attribute__((always_inline)) inline bool regrouped_blend(int equation, int sou
 /* One blend equation (table 17.1) on all four channels; MIN and MAX ignore the factors.
  * unorm8: the colours and factors are 8-bit values (one = 255), multiplied as llvmpipe does.
  * regroup: llvmpipe's rewrites apply (regrouped_blend). */
-__attribute__((always_inline)) inline float4 blend_equation(int equation, int source_factor_id, int destination_factor_id, float4 source,
-                             float4 destination, float4 source_factor, float4 destination_factor, bool unorm8,
-                             bool regroup) {
+CLR_INLINE float4 blend_equation(int equation, int source_factor_id, int destination_factor_id, float4 source,
+                                 float4 destination, float4 source_factor, float4 destination_factor, bool unorm8,
+                                 bool regroup) {
   if (equation == CLR_BLEND_MIN) return fmin(source, destination);
   if (equation == CLR_BLEND_MAX) return fmax(source, destination);
   float4 regrouped;
@@ -207,8 +207,8 @@ inline int factor_without_destination_alpha(int factor) {
 inline bool ignores_factors(int equation) { return equation == CLR_BLEND_MIN || equation == CLR_BLEND_MAX; }
 
 /* The rgb equation and factors on .xyz, the alpha ones on .w, for an attachment of `channels` channels. */
-__attribute__((always_inline)) inline float4 blend_colors(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool unorm8,
-                           int channels) {
+CLR_INLINE float4 blend_colors(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool unorm8,
+                               int channels) {
   /* Mesa's state tracker gives MIN and MAX the factors ONE and ONE, first (st_update_blend). */
   if (ignores_factors(b.rgb_equation)) b.src_rgb = b.dst_rgb = CLR_FACTOR_ONE;
   if (ignores_factors(b.alpha_equation)) b.src_alpha = b.dst_alpha = CLR_FACTOR_ONE;
@@ -231,8 +231,8 @@ __attribute__((always_inline)) inline float4 blend_colors(BlendUniforms b, float
 
 /* The blended colour of a float attachment (normalized = false) or an sRGB one (normalized = true,
  * destination rgb decoded to linear) of `channels` channels, before conversion to its format. */
-__attribute__((always_inline)) inline float4 clr_blend(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
-                        bool normalized, int channels) {
+CLR_INLINE float4 clr_blend(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool normalized,
+                            int channels) {
   if (normalized) {
     source = clamp(source, 0.0f, 1.0f);
     destination = clamp(destination, 0.0f, 1.0f);
@@ -242,7 +242,7 @@ __attribute__((always_inline)) inline float4 clr_blend(BlendUniforms b, float4 s
 }
 
 /* A colour in [0, 1] as an 8-bit value, rounded to nearest even as llvmpipe converts (NaN becomes 0). */
-__attribute__((always_inline)) inline float4 to_unorm8(float4 c) {
+CLR_INLINE float4 to_unorm8(float4 c) {
   return rint(clamp(c, 0.0f, 1.0f) * 255.0f);
 }
 
@@ -250,8 +250,8 @@ __attribute__((always_inline)) inline float4 to_unorm8(float4 c) {
  * multiple of 1/255 in [0, 1] (so any conversion that rounds to nearest gives the byte).
  * destination: the stored colour, with the channels the format lacks as GL reads them (green and
  * blue 0, alpha 1). */
-__attribute__((always_inline)) inline float4 clr_blend_unorm8(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
-                               int channels) {
+CLR_INLINE float4 clr_blend_unorm8(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
+                                   int channels) {
   const float4 blended =
       blend_colors(b, to_unorm8(source), to_unorm8(destination), to_unorm8(constant_color), true, channels);
   return clamp(blended, 0.0f, 255.0f) / 255.0f;
@@ -262,11 +262,11 @@ __attribute__((always_inline)) inline float4 clr_blend_unorm8(BlendUniforms b, f
 /* BlendUniforms::write_mask as a select() condition: lane c is all ones when channel c is written.
  * Integer attachments use it as select(stored, value, clr_write_mask_lanes(mask)) on their int4 or
  * uint4 values. */
-__attribute__((always_inline)) inline int4 clr_write_mask_lanes(uint mask) {
+CLR_INLINE int4 clr_write_mask_lanes(uint mask) {
   return -as_int4(((uint4)(mask) >> (uint4)(0u, 1u, 2u, 3u)) & 1u);
 }
 
 /* `value` in the written channels, `destination` in the others. */
-__attribute__((always_inline)) inline float4 clr_apply_write_mask(uint mask, float4 value, float4 destination) {
+CLR_INLINE float4 clr_apply_write_mask(uint mask, float4 value, float4 destination) {
   return select(destination, value, clr_write_mask_lanes(mask));
 }

@@ -33,7 +33,7 @@
 #endif
 
 /* Edge functions of the pixel centre (x, y): e[k] = 2 * area * screen barycentric k. */
-__attribute__((always_inline)) inline void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
+CLR_INLINE void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
   const long X = (long)x << CLR_SUBPIXEL_BITS;
   const long Y = (long)y << CLR_SUBPIXEL_BITS;
   for (int k = 0; k < 3; ++k) e[k] = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
@@ -92,12 +92,12 @@ inline ulong own_pixels(uint word, uint item) {
 }
 
 /* Edge k's function at (X, Y) for the vertices before snapping, from its value e for the snapped ones. */
-__attribute__((always_inline)) inline float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
+CLR_INLINE float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
   return (float)e + (t->edge_correction[k][0] * X + t->edge_correction[k][1] * Y + t->edge_correction[k][2]);
 }
 
 /* Varying float j weighted by w (used by the generated clr_interpolate_varyings). */
-__attribute__((always_inline)) inline float clr_weighted_varying(const __local SetupTriangle* t, int j, float3 w) {
+CLR_INLINE float clr_weighted_varying(const __local SetupTriangle* t, int j, float3 w) {
   return w.x * t->varyings[0][j] + w.y * t->varyings[1][j] + w.z * t->varyings[2][j];
 }
 
@@ -119,8 +119,8 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
 
 /* Stencil test, then depth test, with their stencil operations and the depth write; true when the
  * fragment passes both. */
-__attribute__((always_inline)) inline bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
-                           __local uchar* stencil) {
+CLR_INLINE bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
+                               __local uchar* stencil) {
   __constant const StencilUniforms* s = &u->stencil[f->front_facing ? 0 : 1];
   const bool stencil_passes = !u->stencil_test || clr_stencil_test(*s, *stencil);
   bool depth_passes = true;
@@ -128,7 +128,9 @@ __attribute__((always_inline)) inline bool fragment_tests(clr_fragment* f, __con
     depth_passes = u->depth_func == CLR_COMPARE_PROGRAM ? clr_program_depth_test(f, f->frag_depth, *depth)
                                                         : clr_compare(u->depth_func, f->frag_depth, *depth);
   }
-  if (u->stencil_test) *stencil = (uchar)clr_stencil_update(*s, clr_stencil_op(*s, stencil_passes, depth_passes), *stencil);
+  if (u->stencil_test) {
+    *stencil = (uchar)clr_stencil_update(*s, clr_stencil_op(*s, stencil_passes, depth_passes), *stencil);
+  }
   if (!stencil_passes || !depth_passes) return false;
   if (u->depth_test && u->depth_write) *depth = f->frag_depth;
   return true;
@@ -137,8 +139,8 @@ __attribute__((always_inline)) inline bool fragment_tests(clr_fragment* f, __con
 /* Output `target` of a fragment into a normalized or float attachment: blending (OpenGL's
  * equations, or the program's blend function for channels whose equation is CLR_BLEND_PROGRAM),
  * the write mask, and quantization to the attachment's format. */
-__attribute__((always_inline)) inline void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local uint4* tile, uint lane,
-                            __constant const DrawUniforms* u) {
+CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local uint4* tile, uint lane,
+                                       __constant const DrawUniforms* u) {
   const int format = u->target_format[target];
   if (format < 0) return;
   __local uint4* pixel = &tile[target * CLR_TILE_PIXELS + lane];
@@ -171,19 +173,18 @@ __attribute__((always_inline)) inline void clr_merge_float_output(clr_fragment* 
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
-__attribute__((always_inline)) inline void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uint lane,
-                              __constant const DrawUniforms* u) {
+CLR_INLINE void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uint lane,
+                                         __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
   __local uint4* pixel = &tile[target * CLR_TILE_PIXELS + lane];
   *pixel = select(*pixel, value, clr_write_mask_lanes(u->blend[target].write_mask));
 }
 
-/* One fragment of triangle t at this work-item's pixel (x, y) with edge values e. `live`: the
- * triangle covers the pixel and the pixel is writable; otherwise this is a helper invocation
- * (quad shading only). */
-__attribute__((always_inline)) inline void process_fragment(const __local SetupTriangle* t, int x, int y, uint lane, bool live, clr_fragment* f,
-                             __local uint4* tile_color, __local float* depth, __local uchar* stencil,
-                             __constant const DrawUniforms* u) {
+/* One fragment of triangle t at pixel (x, y), the tile's pixel `lane`. `live`: the triangle covers
+ * the pixel (a writable one); otherwise this is a helper invocation (quad shading only). */
+CLR_INLINE void process_fragment(const __local SetupTriangle* t, int x, int y, uint lane, bool live, clr_fragment* f,
+                                 __local uint4* tile_color, __local float* depth, __local uchar* stencil,
+                                 __constant const DrawUniforms* u) {
   long e[3];
   edge_values(t, x, y, e);
   /* Barycentrics of the unsnapped triangle (see SetupTriangle), as llvmpipe interpolates: those of
