@@ -103,7 +103,9 @@ std::string describe(const Rgba& c) {
 
 class FragmentOpsTest : public ::testing::Test {
  protected:
-  void SetUp() override { program_ = build_test_program("fragment op unit tests", builtin_stage_program() + kTestKernels); }
+  void SetUp() override {
+    program_ = build_test_program("fragment op unit tests", builtin_stage_program() + kTestKernels);
+  }
 
   ContextState& state() { return *shared_context().impl().state; }
 

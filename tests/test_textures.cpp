@@ -97,7 +97,9 @@ std::string error_of(Action&& action) {
 
 class TextureTest : public ::testing::Test {
  protected:
-  void SetUp() override { program_ = build_test_program("texture unit tests", cl_sources::core_program() + kTestKernels); }
+  void SetUp() override {
+    program_ = build_test_program("texture unit tests", cl_sources::core_program() + kTestKernels);
+  }
 
   static ContextState& state() { return *shared_context().impl().state; }
 

@@ -98,7 +98,8 @@ void clear_texels(ContextState& state, const Texture::Impl& texture, const char*
   const auto count = static_cast<cl_uint>(std::size_t(texture.width) * std::size_t(texture.height));
   cl_host::set_args(kernel, cl_int{static_cast<int>(texture.format)}, texture.data, count, value);
   state.queue.set_stage(cl_host::Stage::Other);
-  cl_host::enqueue_items(state.queue, kernel, cl_host::divide_round_up(count, CLR_CLEAR_TEXELS_PER_ITEM), CLR_ITEM_GROUP_SIZE);
+  const std::size_t items = cl_host::divide_round_up(count, CLR_CLEAR_TEXELS_PER_ITEM);  // clear.cl
+  cl_host::enqueue_items(state.queue, kernel, items, CLR_ITEM_GROUP_SIZE);
 }
 
 }  // namespace

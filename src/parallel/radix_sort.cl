@@ -25,7 +25,9 @@ void radix_histogram(__global const uint* keys, uint count, uint shift, __global
     if (index < count) atomic_inc(&buckets[radix_digit(keys[index], shift)]);
   }
   barrier(CLK_LOCAL_MEM_FENCE);
-  for (uint d = lid; d < CLR_RADIX_BUCKETS; d += CLR_SCAN_GROUP_SIZE) histogram[d * block_count + get_group_id(0)] = buckets[d];
+  for (uint d = lid; d < CLR_RADIX_BUCKETS; d += CLR_SCAN_GROUP_SIZE) {
+    histogram[d * block_count + get_group_id(0)] = buckets[d];
+  }
 }
 
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))

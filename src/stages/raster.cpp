@@ -15,8 +15,9 @@ void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
   for (const cl::Buffer& color : p.colors) kernel_.setArg(next++, color);
   set_resource_args(kernel_, next, *p.resources);
   // One work-group per tile, of the shape the program was compiled for (raster.cl).
-  queue.get().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(std::size_t{p.tiles_x} * p.tiles_y * group_size_),
-                                   cl::NDRange(group_size_), nullptr, queue.event());
+  const std::size_t tiles = std::size_t{p.tiles_x} * p.tiles_y;
+  queue.get().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(tiles * group_size_), cl::NDRange(group_size_),
+                                   nullptr, queue.event());
 }
 
 }  // namespace clraster::stages
