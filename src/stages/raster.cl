@@ -80,14 +80,13 @@ inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local u
 }
 
 /* Bit p of word w set where the tile's pixel 64 w + p is this work-item's: pixel p belongs to
- * work-item p % CLR_RASTER_GROUP. */
+ * work-item p % CLR_RASTER_GROUP (a power of two). Below 64 that is every CLR_RASTER_GROUP-th bit
+ * from bit `item`: ~0 / (2^GROUP - 1) has a one every GROUP bits (all ones for a group of one). */
 inline ulong own_pixels(uint word, uint item) {
 #if CLR_RASTER_GROUP >= 64
   return word == item / 64 ? 1ul << (item % 64) : 0ul;
 #else
-  ulong bits = 0;
-  for (uint p = item; p < 64; p += CLR_RASTER_GROUP) bits |= 1ul << p;
-  return bits;
+  return (~0ul / ((1ul << CLR_RASTER_GROUP) - 1)) << item;
 #endif
 }
 
