@@ -58,18 +58,12 @@ const std::vector<SceneDefinition>& definitions() {
   return scenes;
 }
 
-std::string known_scenes() {
-  std::string text;
-  for (const std::string& name : scene_names()) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 const SceneDefinition& definition(const std::string& name) {
   const std::vector<SceneDefinition>& scenes = definitions();
   const auto found =
       std::find_if(scenes.begin(), scenes.end(), [&](const SceneDefinition& scene) { return scene.name == name; });
   if (found == scenes.end()) {
-    throw InvalidArgument("no benchmark scene is called '" + name + "' (scenes: " + known_scenes() + ")");
+    throw InvalidArgument("no benchmark scene is called '" + name + "' (scenes: " + scene_names_text() + ")");
   }
   return *found;
 }
@@ -87,6 +81,12 @@ const std::vector<std::string>& scene_names() {
     return all;
   }();
   return names;
+}
+
+std::string scene_names_text() {
+  std::string text;
+  for (const std::string& name : scene_names()) text += (text.empty() ? "" : ", ") + name;
+  return text;
 }
 
 std::vector<std::string> parse_scene_list(const std::string& list) {

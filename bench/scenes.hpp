@@ -34,8 +34,9 @@ struct Scene {
   DrawState state(int width, int height) const;
 };
 
-// Every scene's name, in the order the benchmark runs them.
+// Every scene's name, in the order the benchmark runs them, and the same as one "a, b, c" text.
 const std::vector<std::string>& scene_names();
+std::string scene_names_text();
 
 // The scenes of a comma-separated list of names, in its order; an empty list is every scene.
 // Throws InvalidArgument for a name that is not a scene's (the message lists the scenes), before

@@ -144,13 +144,11 @@ int main(int argc, char** argv) {
   BenchOptions bench_options;
   std::string bench_size = "1920x1080";
   std::size_t bench_memory_cap_mib = kDefaultMemoryCap >> 20;
-  std::string scene_list;
-  for (const std::string& name : bench::scene_names()) scene_list += (scene_list.empty() ? "" : ", ") + name;
   CLI::App* bench = app.add_subcommand(
       "bench", "Time fixed procedural scenes drawn by clraster and by Mesa's OpenGL (llvmpipe) in turn, and check "
                "that both draw the same pictures");
   bench->add_option("--scenes", bench_options.scenes,
-                    "Comma-separated scenes to run, of " + scene_list + " (default: all)")
+                    "Comma-separated scenes to run, of " + bench::scene_names_text() + " (default: all)")
       ->option_text("NAME,...");
   bench->add_option("--size", bench_size, "Picture size WIDTHxHEIGHT, each 1..16384")->capture_default_str();
   bench
