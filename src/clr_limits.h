@@ -60,6 +60,9 @@
  * the per-triangle loops, and saves every live value per work-item at each barrier, so one item
  * walking the tile (its loops vectorized by the compiler where they allow it) is faster (measured). */
 #define CLR_RASTER_CPU_ITEMS 1
+/* Pixels of a tile row such a work-item shades together, one vector lane each (a span, see
+ * stages/fragment_ops.cl): one byte of a coverage mask word, and AVX's 8 floats. */
+#define CLR_CPU_SPAN_PIXELS 8
 
 /* ---- Memory budget -----------------------------------------------------------------------------
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */

@@ -22,28 +22,36 @@ namespace clraster::test {
 namespace {
 
 const char* const kTestKernels = R"CLC(
+/* The operations work on spans of pixels (fragment_ops.cl): each case is given to every lane of a
+ * span, and the result is lane 0's. */
+int lane_0(clr_span_int mask) { return CLR_SPAN_LANE(int, mask, 0) != 0; }
+uint lane_0_uint(clr_span_uint value) { return CLR_SPAN_LANE(uint, value, 0); }
+
 __kernel void test_compare(__global const int* funcs, __global const float2* operands, __global int* passed) {
   const size_t i = get_global_id(0);
-  passed[i] = clr_compare(funcs[i], operands[i].x, operands[i].y);
+  passed[i] = lane_0(clr_compare(funcs[i], (clr_span_float)(operands[i].x), (clr_span_float)(operands[i].y)));
 }
 
 __kernel void test_stencil_test(__global const StencilUniforms* states, __global const uint* stored,
                                 __global int* passed) {
   const size_t i = get_global_id(0);
-  passed[i] = clr_stencil_test(states[i], stored[i]);
+  passed[i] = lane_0(clr_stencil_test(states[i], (clr_span_uint)(stored[i])));
 }
 
 /* Applies each state's depth_pass op. */
 __kernel void test_stencil_update(__global const StencilUniforms* states, __global const uint* stored,
                                   __global uint* updated) {
   const size_t i = get_global_id(0);
-  updated[i] = clr_stencil_update(states[i], states[i].depth_pass, stored[i]);
+  updated[i] = lane_0_uint(clr_stencil_update(states[i], states[i].depth_pass, (clr_span_uint)(stored[i])));
 }
 
 /* outcomes: bit 0 stencil passed, bit 1 depth passed. */
-__kernel void test_stencil_op(StencilUniforms s, __global const int* outcomes, __global int* ops) {
+__kernel void test_stencil_after_tests(StencilUniforms s, uint stored, __global const int* outcomes,
+                                       __global uint* updated) {
   const size_t i = get_global_id(0);
-  ops[i] = clr_stencil_op(s, outcomes[i] & 1, outcomes[i] & 2);
+  const clr_span_int stencil_passed = (clr_span_int)(outcomes[i] & 1) != 0;
+  const clr_span_int depth_passed = (clr_span_int)(outcomes[i] & 2) != 0;
+  updated[i] = lane_0_uint(clr_stencil_after_tests(s, stencil_passed, depth_passed, (clr_span_uint)(stored)));
 }
 
 /* Case i blends colour combination i % combos under state i / combos, for an attachment of `kind`
@@ -54,13 +62,20 @@ __kernel void test_blend(__global const BlendUniforms* states, __global const fl
   const size_t i = get_global_id(0);
   const size_t c = i % combos;
   const BlendUniforms b = states[i / combos];
-  blended[i] = kind == 2 ? clr_blend_unorm8(b, sources[c], destinations[c], constants[c], 4)
-                         : clr_blend(b, sources[c], destinations[c], constants[c], kind == 1, 4);
+  const clr_span_color s = CLR_SPAN_COLOR_SPLAT(sources[c]);
+  const clr_span_color d = CLR_SPAN_COLOR_SPLAT(destinations[c]);
+  const clr_span_color k = CLR_SPAN_COLOR_SPLAT(constants[c]);
+  clr_span_color result;
+  if (kind == 2) clr_blend_unorm8(b, s, d, k, 4, &result);
+  else clr_blend(b, s, d, k, kind == 1, 4, &result);
+  blended[i] = clr_span_color_lane(result, 0);
 }
 
 __kernel void test_write_mask(__global const uint* masks, float4 value, float4 destination, __global float4* out) {
   const size_t i = get_global_id(0);
-  out[i] = clr_apply_write_mask(masks[i], value, destination);
+  clr_span_bits masked = CLR_SPAN_COLOR_BITS(CLR_SPAN_COLOR_SPLAT(value));
+  clr_apply_write_mask(masks[i], &masked, CLR_SPAN_COLOR_BITS(CLR_SPAN_COLOR_SPLAT(destination)));
+  out[i] = clr_span_color_lane(CLR_SPAN_BITS_COLOR(masked), 0);
 }
 
 /* mode: the position in KHR_blend_equation_advanced's tables X.1 then X.2. */
@@ -309,10 +324,11 @@ TEST_F(FragmentOpsTest, StencilOpIsChosenByTheStencilThenTheDepthOutcome) {
   s.depth_fail = CLR_STENCIL_INVERT;
   s.depth_pass = CLR_STENCIL_INCR;
   const std::vector<cl_int> outcomes = {0, 2, 1, 3};  // bit 0: stencil passed, bit 1: depth passed
-  cl::Buffer ops = output<cl_int>(outcomes.size());
-  run("test_stencil_op", outcomes.size(), s, buffer(outcomes), ops);
-  EXPECT_EQ(read<cl_int>(ops, outcomes.size()),
-            (std::vector<cl_int>{CLR_STENCIL_ZERO, CLR_STENCIL_ZERO, CLR_STENCIL_INVERT, CLR_STENCIL_INCR}));
+  const cl_uint stored = 0x35;
+  cl::Buffer updated = output<cl_uint>(outcomes.size());
+  run("test_stencil_after_tests", outcomes.size(), s, stored, buffer(outcomes), updated);
+  // ZERO where the stencil test failed, whatever the depth test did; INVERT, INCR after it.
+  EXPECT_EQ(read<cl_uint>(updated, outcomes.size()), (std::vector<cl_uint>{0x00, 0x00, 0xca, 0x36}));
 }
 
 // ---- Blending -------------------------------------------------------------------------------------------

@@ -61,7 +61,9 @@ void emit_constants(std::ostringstream& out, const ParsedProgram& p) {
       << "#define CLR_NUM_OUTPUTS " << in.outputs.size() << "\n"
       << "#define CLR_QUAD_SHADING " << (in.uses_derivatives ? 1 : 0) << "\n"
       << "#define CLR_EARLY_TESTS " << (early_fragment_tests(p) ? 1 : 0) << "\n"
-      << "#define CLR_READS_FRAMEBUFFER " << (p.reads_framebuffer ? 1 : 0) << "\n";
+      << "#define CLR_READS_FRAMEBUFFER " << (p.reads_framebuffer ? 1 : 0) << "\n"
+      << "#define CLR_PROGRAM_DEPTH_TEST " << (in.has_depth_test ? 1 : 0) << "\n"
+      << "#define CLR_PROGRAM_BLEND " << (in.has_blend ? 1 : 0) << "\n";
   bool flat = false;
   for (const Interpolation mode : p.varying_floats) flat = flat || mode == Interpolation::Flat;
   out << "#define CLR_HAS_FLAT_VARYINGS " << (flat ? 1 : 0) << "\n";
@@ -93,6 +95,13 @@ void emit_interface(InterfaceWriter& w, const ParsedProgram& p) {
   emit_struct(w, "clr_outputs", members);
 
   std::ostringstream& out = w.out;
+  out << "/* The outputs of a span of fragments (raster.cl): floats as colours, integers as their bits. */\n"
+      << "typedef struct {\n";
+  if (in.outputs.empty()) out << "  int clr_none;\n";
+  for (const ProgramVariable& o : in.outputs) {
+    out << "  " << (o.type == "float4" ? "clr_span_color " : "clr_span_bits ") << o.name << ";\n";
+  }
+  out << "} clr_span_outputs;\n\n";
   out << R"(/* What the vertex program reads and writes. */
 typedef struct {
   uint vertex_id;        /* the index (indexed draws) or first + position (non-indexed) */
@@ -129,9 +138,15 @@ typedef struct {
 /* Defined by the generated glue at the end of the program. */
 void clr_store_varyings(const clr_varyings* v, __global float* out);
 void clr_interpolate_varyings(const __local SetupTriangle* t, float3 pw, float norm, float3 l, clr_varyings* v);
+#if CLR_PROGRAM_DEPTH_TEST
 bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_depth);
+#endif
+#if CLR_PROGRAM_BLEND
 float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 destination);
-void clr_write_outputs(clr_fragment* f, __local uint4* tile, uint lane, __constant const DrawUniforms* u);
+#endif
+CLR_INLINE void clr_gather_outputs(const clr_fragment* f, int lane, clr_span_outputs* outputs);
+CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,
+                                  __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u);
 
 )";
 
@@ -213,19 +228,29 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
   }
   out << "}\n\n";
 
-  out << "bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_depth) {\n"
-      << (in.has_depth_test ? "  return depth_test(f, fragment_depth, stored_depth);\n" : "  return true;\n")
-      << "}\n\n"
-      << "float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 destination) {\n"
-      << (in.has_blend ? "  return blend(f, target, source, destination);\n" : "  return source;\n") << "}\n\n"
-      << "void clr_write_outputs(clr_fragment* f, __local uint4* tile, uint lane, __constant const DrawUniforms* u) {\n";
+  if (in.has_depth_test) {
+    out << "bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_depth) {\n"
+        << "  return depth_test(f, fragment_depth, stored_depth);\n}\n\n";
+  }
+  if (in.has_blend) {
+    out << "float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 destination) {\n"
+        << "  return blend(f, target, source, destination);\n}\n\n";
+  }
+  out << "CLR_INLINE void clr_gather_outputs(const clr_fragment* f, int lane, clr_span_outputs* outputs) {\n";
+  for (const ProgramVariable& o : in.outputs) {
+    if (o.type == "float4") {
+      out << "  clr_span_set_color_lane(&outputs->" << o.name << ", lane, f->out." << o.name << ");\n";
+    } else {
+      out << "  clr_span_set_bits_lane(&outputs->" << o.name << ", lane, as_uint4(f->out." << o.name << "));\n";
+    }
+  }
+  out << "}\n\n"
+      << "CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,\n"
+      << "                                  __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u) {\n";
   for (std::size_t k = 0; k < in.outputs.size(); ++k) {
     const ProgramVariable& o = in.outputs[k];
-    if (o.type == "float4") {
-      out << "  clr_merge_float_output(f, " << k << ", f->out." << o.name << ", tile, lane, u);\n";
-    } else {
-      out << "  clr_merge_integer_output(" << k << ", as_uint4(f->out." << o.name << "), tile, lane, u);\n";
-    }
+    out << "  clr_merge_" << (o.type == "float4" ? "float" : "integer") << "_output(f, " << k << ", outputs->" << o.name
+        << ", written, tile, first_pixel, u);\n";
   }
   out << "}\n";
 }

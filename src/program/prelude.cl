@@ -29,15 +29,13 @@ inline void clr_discard(clr_fragment* f) { f->discarded = true; }
 /* Framebuffer fetch: colour attachment `target` at this pixel as it is before this fragment is
  * written (after every earlier fragment of the draw and of earlier draws). */
 inline float4 clr_framebuffer_fetch(const clr_fragment* f, uint target) {
-  return target < CLR_NUM_OUTPUTS ? as_float4(f->clr_tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + f->clr_lane])
-                                  : (float4)(0.0f);
+  return target < CLR_NUM_OUTPUTS ? as_float4(clr_tile_pixel(f->clr_tile, target, f->clr_lane)) : (float4)(0.0f);
 }
 inline int4 clr_framebuffer_fetch_int(const clr_fragment* f, uint target) {
-  return target < CLR_NUM_OUTPUTS ? as_int4(f->clr_tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + f->clr_lane])
-                                  : (int4)(0);
+  return target < CLR_NUM_OUTPUTS ? as_int4(clr_tile_pixel(f->clr_tile, target, f->clr_lane)) : (int4)(0);
 }
 inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint target) {
-  return target < CLR_NUM_OUTPUTS ? f->clr_tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + f->clr_lane] : (uint4)(0);
+  return target < CLR_NUM_OUTPUTS ? clr_tile_pixel(f->clr_tile, target, f->clr_lane) : (uint4)(0);
 }
 
 /* ---- Derivatives -------------------------------------------------------------------------------------

@@ -1,30 +1,122 @@
 /* fragment_ops.cl: OpenGL's per-fragment operations after the fragment program (GL 4.6 section 17.3),
- * as functions the rasterizer calls per fragment and per colour attachment, in this order:
+ * as functions the rasterizer calls per span of fragments and per colour attachment, in this order:
  *
  *   stencil test     clr_stencil_test
  *   depth test       clr_compare
- *   stencil update   clr_stencil_update, with the op clr_stencil_op picks from both outcomes
+ *   stencil update   clr_stencil_after_tests (clr_stencil_update with the op both outcomes pick)
  *   blending         clr_blend_unorm8 or clr_blend (fixed-function equations and factors)
  *   write mask       clr_apply_write_mask
  *
  * The state comes as the BlendUniforms and StencilUniforms of types.h, passed by value so the caller
- * may hold them in any address space. Everything here is pure arithmetic on one fragment: the caller
+ * may hold them in any address space. Everything here is pure arithmetic on fragments: the caller
  * reads and writes the framebuffer and converts between storage formats and floats. */
+
+/* ---- Spans -----------------------------------------------------------------------------------------
+ * The rasterizer processes CLR_SPAN_PIXELS pixels of a tile row together, a span, and the operations
+ * here work on spans: one vector lane per pixel and one vector per colour channel (structure of
+ * arrays), so that one instruction does the work of every pixel of the span, under the draw's state
+ * decided once per span. Spans are CLR_CPU_SPAN_PIXELS wide where one work-item walks a whole tile
+ * (CPU shapes, clr_limits.h) and one pixel wide where each work-item has its pixel (GPU shapes,
+ * quad shading), or where the program's own depth_test or blend function, which take one fragment,
+ * run per fragment. The same source serves both widths, so both compute the same bits.
+ *
+ * Masks are what comparisons give: -1 per true lane in vectors, 1 in scalars. Both are true to
+ * select(), &&, || and !, and clr_span_any tests them; ~ is never applied to a mask (~1 is true). */
+#if CLR_QUAD_SHADING || CLR_PROGRAM_DEPTH_TEST || CLR_PROGRAM_BLEND || \
+    CLR_RASTER_GROUP_SIZE >= CLR_TILE_SIZE * CLR_TILE_SIZE
+#define CLR_SPAN_PIXELS 1
+#define CLR_SPAN_SUFFIX
+#define CLR_SPAN_LANES 0
+#define CLR_SPAN_TRUE 1
+#define clr_span_any(mask) ((mask) != 0)
+#define CLR_SPAN_LOAD(pointer) (*(pointer))
+#define CLR_SPAN_STORE(value, pointer) (*(pointer) = (value))
+#define CLR_SPAN_LANE(type, vector, lane) (vector)
+#elif CLR_CPU_SPAN_PIXELS == 8
+#define CLR_SPAN_PIXELS 8
+#define CLR_SPAN_SUFFIX 8
+#define CLR_SPAN_LANES (int8)(0, 1, 2, 3, 4, 5, 6, 7)
+#define CLR_SPAN_TRUE (int8)(-1)
+#define clr_span_any(mask) any(mask)
+#define CLR_SPAN_LOAD(pointer) vload8(0, pointer)
+#define CLR_SPAN_STORE(value, pointer) vstore8(value, 0, pointer)
+/* Lane `lane` of the span vector `vector` (a private variable), as an lvalue. */
+#define CLR_SPAN_LANE(type, vector, lane) (((type*)&(vector))[lane])
+#else
+#error "CLR_CPU_SPAN_PIXELS must be 8"
+#endif
+#define CLR_SPAN_PASTE(a, b) a##b
+#define CLR_SPAN_CAT(a, b) CLR_SPAN_PASTE(a, b)
+#define CLR_SPAN(type) CLR_SPAN_CAT(type, CLR_SPAN_SUFFIX)         /* float -> float8, or float */
+#define CLR_SPAN_CONVERT(type, value) CLR_SPAN_CAT(convert_, CLR_SPAN(type))(value)
+#define CLR_SPAN_AS(type, value) CLR_SPAN_CAT(as_, CLR_SPAN(type))(value)
+typedef CLR_SPAN(float) clr_span_float;
+typedef CLR_SPAN(int) clr_span_int;
+typedef CLR_SPAN(uint) clr_span_uint;
+typedef CLR_SPAN(long) clr_span_long;
+
+/* A span's colours as floats, and the same as the bits a tile holds (raster.cl). */
+typedef struct {
+  clr_span_float c[4];
+} clr_span_color;
+typedef struct {
+  clr_span_uint c[4];
+} clr_span_bits;
+
+/* Lanes from bits: lane k is bit k of `bits`. */
+CLR_INLINE clr_span_int clr_span_lanes_from_bits(uint bits) {
+  return (((clr_span_int)((int)bits) >> CLR_SPAN_LANES) & 1) != 0;
+}
+
+/* The pixel in lane `lane` as a float4, and a float4 into lane `lane`. */
+CLR_INLINE float4 clr_span_color_lane(clr_span_color color, int lane) {
+  return (float4)(CLR_SPAN_LANE(float, color.c[0], lane), CLR_SPAN_LANE(float, color.c[1], lane),
+                  CLR_SPAN_LANE(float, color.c[2], lane), CLR_SPAN_LANE(float, color.c[3], lane));
+}
+CLR_INLINE void clr_span_set_color_lane(clr_span_color* color, int lane, float4 value) {
+  CLR_SPAN_LANE(float, color->c[0], lane) = value.x;
+  CLR_SPAN_LANE(float, color->c[1], lane) = value.y;
+  CLR_SPAN_LANE(float, color->c[2], lane) = value.z;
+  CLR_SPAN_LANE(float, color->c[3], lane) = value.w;
+}
+CLR_INLINE void clr_span_set_bits_lane(clr_span_bits* bits, int lane, uint4 value) {
+  CLR_SPAN_LANE(uint, bits->c[0], lane) = value.x;
+  CLR_SPAN_LANE(uint, bits->c[1], lane) = value.y;
+  CLR_SPAN_LANE(uint, bits->c[2], lane) = value.z;
+  CLR_SPAN_LANE(uint, bits->c[3], lane) = value.w;
+}
+/* Every lane the same colour; a span's colours as bits and back (macros, not functions: LLVM's
+ * inliner marks a function's returned structure with an intrinsic Oclgrind cannot run, so nothing
+ * here returns a structure). */
+#define CLR_SPAN_COLOR_SPLAT(value)                                                                 \
+  ((clr_span_color){{(clr_span_float)((value).x), (clr_span_float)((value).y), (clr_span_float)((value).z), \
+                     (clr_span_float)((value).w)}})
+#define CLR_SPAN_COLOR_BITS(color)                                                            \
+  ((clr_span_bits){{CLR_SPAN_AS(uint, (color).c[0]), CLR_SPAN_AS(uint, (color).c[1]), \
+                    CLR_SPAN_AS(uint, (color).c[2]), CLR_SPAN_AS(uint, (color).c[3])}})
+#define CLR_SPAN_BITS_COLOR(bits)                                                              \
+  ((clr_span_color){{CLR_SPAN_AS(float, (bits).c[0]), CLR_SPAN_AS(float, (bits).c[1]), \
+                     CLR_SPAN_AS(float, (bits).c[2]), CLR_SPAN_AS(float, (bits).c[3])}})
+
+/* The rasterizer's tile (raster.cl) holds a colour attachment's pixel as one uint4. */
+CLR_INLINE uint4 clr_tile_pixel(__local const uint4* tile, uint target, uint pixel) {
+  return tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + pixel];
+}
 
 /* ---- Comparisons (GL 4.6 17.3.3, 17.3.4) ---------------------------------------------------------
  * `fragment` func `stored`, in GL's operand order (LESS passes when fragment < stored). IEEE rules:
  * -0 equals +0, and every ordered comparison with a NaN fails, so only NOTEQUAL and ALWAYS pass a
  * NaN. CLR_COMPARE_PROGRAM is the caller's business; here it passes, like ALWAYS. */
-CLR_INLINE bool clr_compare(int func, float fragment, float stored) {
+CLR_INLINE clr_span_int clr_compare(int func, clr_span_float fragment, clr_span_float stored) {
   switch (func) {
-    case CLR_COMPARE_NEVER: return false;
+    case CLR_COMPARE_NEVER: return (clr_span_int)(0);
     case CLR_COMPARE_LESS: return fragment < stored;
     case CLR_COMPARE_EQUAL: return fragment == stored;
     case CLR_COMPARE_LEQUAL: return fragment <= stored;
     case CLR_COMPARE_GREATER: return fragment > stored;
     case CLR_COMPARE_NOTEQUAL: return fragment != stored;
     case CLR_COMPARE_GEQUAL: return fragment >= stored;
-    default: return true;
+    default: return CLR_SPAN_TRUE;
   }
 }
 
@@ -32,32 +124,36 @@ CLR_INLINE bool clr_compare(int func, float fragment, float stored) {
 
 /* (reference & read_mask) func (stored & read_mask). Values below 2^8 are exact in float, so the
  * depth test's comparison serves both. */
-CLR_INLINE bool clr_stencil_test(StencilUniforms s, uint stored) {
-  return clr_compare(s.func, (float)(s.reference & s.read_mask), (float)(stored & s.read_mask));
-}
-
-/* Which of the face's three ops applies. A fragment that fails the stencil test never reaches the
- * depth test; pass depth_passed = true when there is no depth test (disabled or no depth buffer). */
-CLR_INLINE int clr_stencil_op(StencilUniforms s, bool stencil_passed, bool depth_passed) {
-  if (!stencil_passed) return s.stencil_fail;
-  return depth_passed ? s.depth_pass : s.depth_fail;
+CLR_INLINE clr_span_int clr_stencil_test(StencilUniforms s, clr_span_uint stored) {
+  return clr_compare(s.func, (clr_span_float)((float)(s.reference & s.read_mask)),
+                     CLR_SPAN_CONVERT(float, stored & s.read_mask));
 }
 
 /* The stencil value after `op` (CLR_STENCIL_*), keeping the bits write_mask protects. INCR and DECR
  * saturate at 255 and 0; the _WRAP ops wrap modulo 256. */
-CLR_INLINE uint clr_stencil_update(StencilUniforms s, int op, uint stored) {
-  uint value;
+CLR_INLINE clr_span_uint clr_stencil_update(StencilUniforms s, int op, clr_span_uint stored) {
+  clr_span_uint value;
   switch (op) {
     case CLR_STENCIL_ZERO: value = 0u; break;
     case CLR_STENCIL_REPLACE: value = s.reference; break;
     case CLR_STENCIL_INCR: value = min(stored + 1u, 255u); break;
     case CLR_STENCIL_INCR_WRAP: value = stored + 1u; break;
-    case CLR_STENCIL_DECR: value = stored > 0u ? stored - 1u : 0u; break;
+    case CLR_STENCIL_DECR: value = select(stored - 1u, (clr_span_uint)(0u), stored == 0u); break;
     case CLR_STENCIL_DECR_WRAP: value = stored - 1u; break;
     case CLR_STENCIL_INVERT: value = ~stored; break;
     default: value = stored; break; /* CLR_STENCIL_KEEP */
   }
   return ((value & s.write_mask) | (stored & ~s.write_mask)) & 0xffu;
+}
+
+/* The stencil value after the tests, by the face's op for their outcomes: stencil_fail where the
+ * stencil test failed (those fragments never reach the depth test), else depth_fail or depth_pass.
+ * Pass depth_passed all true when there is no depth test (disabled or no depth buffer). */
+CLR_INLINE clr_span_uint clr_stencil_after_tests(StencilUniforms s, clr_span_int stencil_passed,
+                                                 clr_span_int depth_passed, clr_span_uint stored) {
+  const clr_span_uint after_depth_test =
+      select(clr_stencil_update(s, s.depth_fail, stored), clr_stencil_update(s, s.depth_pass, stored), depth_passed);
+  return select(clr_stencil_update(s, s.stencil_fail, stored), after_depth_test, stencil_passed);
 }
 
 /* ---- Blending (GL 4.6 17.3.6) ----------------------------------------------------------------------
@@ -90,35 +186,34 @@ CLR_INLINE uint clr_stencil_update(StencilUniforms s, int op, uint stored) {
  *   float formats    clr_blend(normalized = false): no clamping, and llvmpipe's order of operations
  *                    (regrouped_blend below): RGBA16F, RGBA32F, R32F and RG32F match it bit for bit. */
 
-/* One blend factor (table 17.2) for all four channels: the rgb factor is its .xyz and the alpha
- * factor its .w, so the same function serves the rgb and the alpha factor of the state. Colours are
- * in units where `one` is full intensity: 1, or 255 for 8-bit values. */
-CLR_INLINE float4 blend_factor(int factor, float4 source, float4 destination, float4 constant_color, float one) {
+/* One blend factor (table 17.2) for channel `channel` (3 is alpha) of a span: the same function
+ * serves the rgb factor on channels 0-2 and the alpha factor on channel 3. Colours are in units
+ * where `one` is full intensity: 1, or 255 for 8-bit values. */
+CLR_INLINE clr_span_float blend_factor(int factor, int channel, clr_span_color source, clr_span_color destination,
+                                       clr_span_color constant_color, float one) {
   switch (factor) {
-    case CLR_FACTOR_ZERO: return (float4)(0.0f);
-    case CLR_FACTOR_SRC_COLOR: return source;
-    case CLR_FACTOR_ONE_MINUS_SRC_COLOR: return one - source;
-    case CLR_FACTOR_DST_COLOR: return destination;
-    case CLR_FACTOR_ONE_MINUS_DST_COLOR: return one - destination;
-    case CLR_FACTOR_SRC_ALPHA: return (float4)(source.w);
-    case CLR_FACTOR_ONE_MINUS_SRC_ALPHA: return (float4)(one - source.w);
-    case CLR_FACTOR_DST_ALPHA: return (float4)(destination.w);
-    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return (float4)(one - destination.w);
-    case CLR_FACTOR_CONSTANT_COLOR: return constant_color;
-    case CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR: return one - constant_color;
-    case CLR_FACTOR_CONSTANT_ALPHA: return (float4)(constant_color.w);
-    case CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA: return (float4)(one - constant_color.w);
-    case CLR_FACTOR_SRC_ALPHA_SATURATE: {
-      const float f = fmin(source.w, one - destination.w);
-      return (float4)(f, f, f, one);
-    }
-    default: return (float4)(one); /* CLR_FACTOR_ONE */
+    case CLR_FACTOR_ZERO: return (clr_span_float)(0.0f);
+    case CLR_FACTOR_SRC_COLOR: return source.c[channel];
+    case CLR_FACTOR_ONE_MINUS_SRC_COLOR: return one - source.c[channel];
+    case CLR_FACTOR_DST_COLOR: return destination.c[channel];
+    case CLR_FACTOR_ONE_MINUS_DST_COLOR: return one - destination.c[channel];
+    case CLR_FACTOR_SRC_ALPHA: return source.c[3];
+    case CLR_FACTOR_ONE_MINUS_SRC_ALPHA: return one - source.c[3];
+    case CLR_FACTOR_DST_ALPHA: return destination.c[3];
+    case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return one - destination.c[3];
+    case CLR_FACTOR_CONSTANT_COLOR: return constant_color.c[channel];
+    case CLR_FACTOR_ONE_MINUS_CONSTANT_COLOR: return one - constant_color.c[channel];
+    case CLR_FACTOR_CONSTANT_ALPHA: return constant_color.c[3];
+    case CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA: return one - constant_color.c[3];
+    case CLR_FACTOR_SRC_ALPHA_SATURATE:
+      return channel == 3 ? (clr_span_float)(one) : fmin(source.c[3], one - destination.c[3]);
+    default: return (clr_span_float)(one); /* CLR_FACTOR_ONE */
   }
 }
 
 /* llvmpipe's product of two 8-bit values, (ab + (ab >> 8) + 128) >> 8, on integers held in floats. */
-CLR_INLINE float4 mul_unorm8(float4 a, float4 b) {
-  const float4 ab = a * b;
+CLR_INLINE clr_span_float mul_unorm8(clr_span_float a, clr_span_float b) {
+  const clr_span_float ab = a * b;
   return floor((ab + floor(ab / 256.0f) + 128.0f) / 256.0f);
 }
 
@@ -142,48 +237,51 @@ inline bool plain_factor(int f) { return f == CLR_FACTOR_ONE || (f % 2 == 0 && f
  *                                   REVERSE_SUBTRACT (float only): d - (s + d) * f, or (s + d) * f - s.
  * unorm8: colours and factors are 8-bit values (one = 255). Returns false, leaving *out alone, where
  * llvmpipe blends as written. */
-CLR_INLINE bool regrouped_blend(int equation, int source_factor_id, int destination_factor_id, float4 s, float4 d,
-                                float4 source_factor, float4 destination_factor, bool unorm8, float4* out) {
+CLR_INLINE bool regrouped_blend(int equation, int source_factor_id, int destination_factor_id, clr_span_float s,
+                                clr_span_float d, clr_span_float source_factor, clr_span_float destination_factor,
+                                bool unorm8, clr_span_float* out) {
   if (equation != CLR_BLEND_ADD && (unorm8 || (equation != CLR_BLEND_SUBTRACT &&
                                                equation != CLR_BLEND_REVERSE_SUBTRACT))) {
     return false;
   }
   if (complementary_factors(source_factor_id, destination_factor_id)) {
     const bool source_plain = plain_factor(source_factor_id);
-    const float4 f = source_plain ? source_factor : destination_factor;
-    const float4 from = source_plain ? d : s, to = source_plain ? s : d;
+    const clr_span_float f = source_plain ? source_factor : destination_factor;
+    const clr_span_float from = source_plain ? d : s, to = source_plain ? s : d;
     if (unorm8) {
       *out = from + floor((f + floor(f / 128.0f)) * (to - from) / 256.0f + 0.5f);
     } else if (equation == CLR_BLEND_ADD) {
       *out = fma(f, to - from, from);
     } else {
-      const float4 sum = (s + d) * f;
+      const clr_span_float sum = (s + d) * f;
       if (equation == CLR_BLEND_SUBTRACT) *out = source_plain ? sum - d : s - sum;
       else *out = source_plain ? d - sum : sum - s;
     }
     return true;
   }
   if (unorm8 || source_factor_id != destination_factor_id) return false;
-  const float4 combined = equation == CLR_BLEND_ADD ? s + d : equation == CLR_BLEND_SUBTRACT ? s - d : d - s;
+  const clr_span_float combined = equation == CLR_BLEND_ADD ? s + d : equation == CLR_BLEND_SUBTRACT ? s - d : d - s;
   *out = combined * source_factor;
   return true;
 }
 
-/* One blend equation (table 17.1) on all four channels; MIN and MAX ignore the factors.
+/* One blend equation (table 17.1) on one channel; MIN and MAX ignore the factors.
  * unorm8: the colours and factors are 8-bit values (one = 255), multiplied as llvmpipe does.
  * regroup: llvmpipe's rewrites apply (regrouped_blend). */
-CLR_INLINE float4 blend_equation(int equation, int source_factor_id, int destination_factor_id, float4 source,
-                                 float4 destination, float4 source_factor, float4 destination_factor, bool unorm8,
-                                 bool regroup) {
+CLR_INLINE clr_span_float blend_equation(int equation, int source_factor_id, int destination_factor_id,
+                                         clr_span_float source, clr_span_float destination,
+                                         clr_span_float source_factor, clr_span_float destination_factor, bool unorm8,
+                                         bool regroup) {
   if (equation == CLR_BLEND_MIN) return fmin(source, destination);
   if (equation == CLR_BLEND_MAX) return fmax(source, destination);
-  float4 regrouped;
+  clr_span_float regrouped;
   if (regroup && regrouped_blend(equation, source_factor_id, destination_factor_id, source, destination,
                                  source_factor, destination_factor, unorm8, &regrouped)) {
     return regrouped;
   }
-  const float4 source_term = unorm8 ? mul_unorm8(source, source_factor) : source * source_factor;
-  const float4 destination_term = unorm8 ? mul_unorm8(destination, destination_factor) : destination * destination_factor;
+  const clr_span_float source_term = unorm8 ? mul_unorm8(source, source_factor) : source * source_factor;
+  const clr_span_float destination_term =
+      unorm8 ? mul_unorm8(destination, destination_factor) : destination * destination_factor;
   switch (equation) {
     case CLR_BLEND_SUBTRACT: return source_term - destination_term;
     case CLR_BLEND_REVERSE_SUBTRACT: return destination_term - source_term;
@@ -206,9 +304,10 @@ inline int factor_without_destination_alpha(int factor) {
 
 inline bool ignores_factors(int equation) { return equation == CLR_BLEND_MIN || equation == CLR_BLEND_MAX; }
 
-/* The rgb equation and factors on .xyz, the alpha ones on .w, for an attachment of `channels` channels. */
-CLR_INLINE float4 blend_colors(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool unorm8,
-                               int channels) {
+/* The rgb equation and factors on channels 0-2, the alpha ones on channel 3, for an attachment of
+ * `channels` channels, into *blended. */
+CLR_INLINE void blend_colors(BlendUniforms b, clr_span_color source, clr_span_color destination,
+                             clr_span_color constant_color, bool unorm8, int channels, clr_span_color* blended) {
   /* Mesa's state tracker gives MIN and MAX the factors ONE and ONE, first (st_update_blend). */
   if (ignores_factors(b.rgb_equation)) b.src_rgb = b.dst_rgb = CLR_FACTOR_ONE;
   if (ignores_factors(b.alpha_equation)) b.src_alpha = b.dst_alpha = CLR_FACTOR_ONE;
@@ -219,54 +318,55 @@ CLR_INLINE float4 blend_colors(BlendUniforms b, float4 source, float4 destinatio
   }
   const float one = unorm8 ? 255.0f : 1.0f;
   const bool regroup = (b.src_rgb == b.dst_rgb && b.src_alpha == b.dst_alpha) || channels == 1;
-  const float4 rgb = blend_equation(b.rgb_equation, b.src_rgb, b.dst_rgb, source, destination,
-                                    blend_factor(b.src_rgb, source, destination, constant_color, one),
-                                    blend_factor(b.dst_rgb, source, destination, constant_color, one), unorm8, regroup);
-  const float4 alpha =
-      blend_equation(b.alpha_equation, b.src_alpha, b.dst_alpha, source, destination,
-                     blend_factor(b.src_alpha, source, destination, constant_color, one),
-                     blend_factor(b.dst_alpha, source, destination, constant_color, one), unorm8, regroup);
-  return (float4)(rgb.xyz, alpha.w);
+  for (int c = 0; c < 4; ++c) {
+    const int equation = c < 3 ? b.rgb_equation : b.alpha_equation;
+    const int source_factor = c < 3 ? b.src_rgb : b.src_alpha;
+    const int destination_factor = c < 3 ? b.dst_rgb : b.dst_alpha;
+    blended->c[c] = blend_equation(equation, source_factor, destination_factor, source.c[c], destination.c[c],
+                                   blend_factor(source_factor, c, source, destination, constant_color, one),
+                                   blend_factor(destination_factor, c, source, destination, constant_color, one),
+                                   unorm8, regroup);
+  }
 }
 
 /* The blended colour of a float attachment (normalized = false) or an sRGB one (normalized = true,
  * destination rgb decoded to linear) of `channels` channels, before conversion to its format. */
-CLR_INLINE float4 clr_blend(BlendUniforms b, float4 source, float4 destination, float4 constant_color, bool normalized,
-                            int channels) {
+CLR_INLINE void clr_blend(BlendUniforms b, clr_span_color source, clr_span_color destination,
+                          clr_span_color constant_color, bool normalized, int channels, clr_span_color* blended) {
   if (normalized) {
-    source = clamp(source, 0.0f, 1.0f);
-    destination = clamp(destination, 0.0f, 1.0f);
-    constant_color = clamp(constant_color, 0.0f, 1.0f);
+    for (int c = 0; c < 4; ++c) {
+      source.c[c] = clamp(source.c[c], 0.0f, 1.0f);
+      destination.c[c] = clamp(destination.c[c], 0.0f, 1.0f);
+      constant_color.c[c] = clamp(constant_color.c[c], 0.0f, 1.0f);
+    }
   }
-  return blend_colors(b, source, destination, constant_color, false, channels);
+  blend_colors(b, source, destination, constant_color, false, channels, blended);
 }
 
-/* A colour in [0, 1] as an 8-bit value, rounded to nearest even as llvmpipe converts (NaN becomes 0). */
-CLR_INLINE float4 to_unorm8(float4 c) {
-  return rint(clamp(c, 0.0f, 1.0f) * 255.0f);
+/* Colours in [0, 1] as 8-bit values, rounded to nearest even as llvmpipe converts (NaN becomes 0). */
+CLR_INLINE void to_unorm8(clr_span_color* color) {
+  for (int c = 0; c < 4; ++c) color->c[c] = rint(clamp(color->c[c], 0.0f, 1.0f) * 255.0f);
 }
 
 /* The blended colour of a linear 8-bit unsigned normalized attachment, as llvmpipe blends it: a
  * multiple of 1/255 in [0, 1] (so any conversion that rounds to nearest gives the byte).
  * destination: the stored colour, with the channels the format lacks as GL reads them (green and
  * blue 0, alpha 1). */
-CLR_INLINE float4 clr_blend_unorm8(BlendUniforms b, float4 source, float4 destination, float4 constant_color,
-                                   int channels) {
-  const float4 blended =
-      blend_colors(b, to_unorm8(source), to_unorm8(destination), to_unorm8(constant_color), true, channels);
-  return clamp(blended, 0.0f, 255.0f) / 255.0f;
+CLR_INLINE void clr_blend_unorm8(BlendUniforms b, clr_span_color source, clr_span_color destination,
+                                 clr_span_color constant_color, int channels, clr_span_color* blended) {
+  to_unorm8(&source);
+  to_unorm8(&destination);
+  to_unorm8(&constant_color);
+  blend_colors(b, source, destination, constant_color, true, channels, blended);
+  for (int c = 0; c < 4; ++c) blended->c[c] = clamp(blended->c[c], 0.0f, 255.0f) / 255.0f;
 }
 
 /* ---- Colour write mask (GL 4.6 17.4.2) -------------------------------------------------------------- */
 
-/* BlendUniforms::write_mask as a select() condition: lane c is all ones when channel c is written.
- * Integer attachments use it as select(stored, value, clr_write_mask_lanes(mask)) on their int4 or
- * uint4 values. */
-CLR_INLINE int4 clr_write_mask_lanes(uint mask) {
-  return -as_int4(((uint4)(mask) >> (uint4)(0u, 1u, 2u, 3u)) & 1u);
-}
-
-/* `value` in the written channels, `destination` in the others. */
-CLR_INLINE float4 clr_apply_write_mask(uint mask, float4 value, float4 destination) {
-  return select(destination, value, clr_write_mask_lanes(mask));
+/* *value keeps the channels BlendUniforms::write_mask writes (bit c for channel c) and takes
+ * `destination` in the others: on the bits the tile holds, so integer and float attachments alike. */
+CLR_INLINE void clr_apply_write_mask(uint mask, clr_span_bits* value, clr_span_bits destination) {
+  for (int c = 0; c < 4; ++c) {
+    if (!((mask >> c) & 1u)) value->c[c] = destination.c[c];
+  }
 }

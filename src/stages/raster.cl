@@ -6,8 +6,10 @@
  * with each one's coverage of the tile as a bit mask (coverage_mask). Each pixel belongs to one
  * work-item, the only one to touch its attachments, so there are no atomics on them and every run
  * gives the same result. How many work-items a group has is the device's choice (CLR_RASTER_GROUP):
- * one per pixel on GPUs, few on CPUs, each then shading its pixels one after the other, visiting
- * only the pixels each triangle's mask has.
+ * one per pixel on GPUs, few on CPUs, each then walking its pixels, visiting only the pixels each
+ * triangle's mask has, a span of CLR_SPAN_PIXELS pixels of a row at a time (fragment_ops.cl): the
+ * span's interpolation, tests, blending and merge into the tile are vector operations, and only the
+ * fragment program runs per fragment.
  *
  * Per fragment, in OpenGL's order: the fragment program, the stencil test, the depth test (with
  * their stencil operations and depth write), then blending, the write mask and conversion to the
@@ -16,10 +18,10 @@
  *
  * Tile storage: a colour attachment's pixel is a uint4 holding the decoded value exactly as the
  * attachment stores it (float4 bits for normalized and float formats, already quantized to the
- * format; int4 or uint4 for integer ones). Programs that take derivatives are shaded in 2x2 quads,
- * one work-item per pixel: every work-item runs the program for every triangle that covers any
- * pixel of the tile, the uncovered ones as helpers whose results are thrown away (prelude.cl
- * exchanges the values). */
+ * format where the draw reads the tile back; int4 or uint4 for integer ones). Programs that take
+ * derivatives are shaded in 2x2 quads, one work-item per pixel: every work-item runs the program for
+ * every triangle that covers any pixel of the tile, the uncovered ones as helpers whose results are
+ * thrown away (prelude.cl exchanges the values). */
 
 #define CLR_TILE_PIXELS (CLR_TILE_SIZE * CLR_TILE_SIZE)
 #define CLR_TILE_TARGETS (CLR_NUM_OUTPUTS > 0 ? CLR_NUM_OUTPUTS : 1)
@@ -31,13 +33,6 @@
 #else
 #define CLR_RASTER_GROUP CLR_RASTER_GROUP_SIZE
 #endif
-
-/* Edge functions of the pixel centre (x, y): e[k] = 2 * area * screen barycentric k. */
-CLR_INLINE void edge_values(const __local SetupTriangle* t, int x, int y, long* e) {
-  const long X = (long)x << CLR_SUBPIXEL_BITS;
-  const long Y = (long)y << CLR_SUBPIXEL_BITS;
-  for (int k = 0; k < 3; ++k) e[k] = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
-}
 
 /* Lanes of `inside` (each 0 or -1) as the bits of a byte, lane 0 in bit 0. */
 inline uint lanes_to_bits(long8 inside) {
@@ -79,20 +74,20 @@ inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local u
   }
 }
 
-/* Bit p of word w set where the tile's pixel 64 w + p is this work-item's: pixel p belongs to
- * work-item p % CLR_RASTER_GROUP (a power of two). Below 64 that is every CLR_RASTER_GROUP-th bit
- * from bit `item`: ~0 / (2^GROUP - 1) has a one every GROUP bits (all ones for a group of one). */
+/* Bit p of word w set where the tile's pixel 64 w + p is this work-item's: the pixels of span s (a
+ * run of CLR_SPAN_PIXELS from pixel s * CLR_SPAN_PIXELS) belong to work-item s % CLR_RASTER_GROUP
+ * (a power of two). Below 64 pixels between a work-item's spans, that is a run of CLR_SPAN_BITS every
+ * CLR_OWNER_PERIOD bits, from the work-item's first span: ~0 / (2^period - 1) has a one every period
+ * bits (all ones for a period of one). */
+#define CLR_SPAN_BITS ((1ul << CLR_SPAN_PIXELS) - 1)
+#define CLR_OWNER_PERIOD (CLR_RASTER_GROUP * CLR_SPAN_PIXELS)
 inline ulong own_pixels(uint word, uint item) {
-#if CLR_RASTER_GROUP >= 64
-  return word == item / 64 ? 1ul << (item % 64) : 0ul;
+  const uint first = item * CLR_SPAN_PIXELS;
+#if CLR_OWNER_PERIOD >= 64
+  return word == first / 64 ? CLR_SPAN_BITS << (first % 64) : 0ul;
 #else
-  return (~0ul / ((1ul << CLR_RASTER_GROUP) - 1)) << item;
+  return (~0ul / ((1ul << CLR_OWNER_PERIOD) - 1)) * CLR_SPAN_BITS << first;
 #endif
-}
-
-/* Edge k's function at (X, Y) for the vertices before snapping, from its value e for the snapped ones. */
-CLR_INLINE float unsnapped_edge(const __local SetupTriangle* t, int k, long e, float X, float Y) {
-  return (float)e + (t->edge_correction[k][0] * X + t->edge_correction[k][1] * Y + t->edge_correction[k][2]);
 }
 
 /* Varying float j weighted by w (used by the generated clr_interpolate_varyings). */
@@ -116,36 +111,62 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
   else clr_store_texel_float(format, data, pixel, as_float4(value));
 }
 
-/* Stencil test, then depth test, with their stencil operations and the depth write; true when the
- * fragment passes both. */
-CLR_INLINE bool fragment_tests(clr_fragment* f, __constant const DrawUniforms* u, __local float* depth,
-                               __local uchar* stencil) {
-  __constant const StencilUniforms* s = &u->stencil[f->front_facing ? 0 : 1];
-  const bool stencil_passes = !u->stencil_test || clr_stencil_test(*s, *stencil);
-  bool depth_passes = true;
-  if (stencil_passes && u->depth_test) {
-    depth_passes = u->depth_func == CLR_COMPARE_PROGRAM ? clr_program_depth_test(f, f->frag_depth, *depth)
-                                                        : clr_compare(u->depth_func, f->frag_depth, *depth);
+/* A colour attachment's span in the tile, and the span written back where `written` is true. */
+CLR_INLINE void load_tile_span(__local const uint4* tile, uint target, uint first_pixel, clr_span_bits* bits) {
+  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
+    clr_span_set_bits_lane(bits, lane, tile[target * CLR_TILE_PIXELS + first_pixel + lane]);
   }
-  if (u->stencil_test) {
-    *stencil = (uchar)clr_stencil_update(*s, clr_stencil_op(*s, stencil_passes, depth_passes), *stencil);
+}
+CLR_INLINE void store_tile_span(__local uint4* tile, uint target, uint first_pixel, clr_span_bits stored,
+                                clr_span_bits value, clr_span_int written) {
+  for (int c = 0; c < 4; ++c) value.c[c] = select(stored.c[c], value.c[c], written);
+  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
+    tile[target * CLR_TILE_PIXELS + first_pixel + lane] =
+        (uint4)(CLR_SPAN_LANE(uint, value.c[0], lane), CLR_SPAN_LANE(uint, value.c[1], lane),
+                CLR_SPAN_LANE(uint, value.c[2], lane), CLR_SPAN_LANE(uint, value.c[3], lane));
   }
-  if (!stencil_passes || !depth_passes) return false;
-  if (u->depth_test && u->depth_write) *depth = f->frag_depth;
-  return true;
 }
 
-/* Output `target` of a fragment into a normalized or float attachment: blending (OpenGL's
- * equations, or the program's blend function for channels whose equation is CLR_BLEND_PROGRAM),
- * the write mask, and quantization to the attachment's format. */
-CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, float4 source, __local uint4* tile, uint lane,
-                                       __constant const DrawUniforms* u) {
+/* Stencil test, then depth test, with their stencil operations and the depth write, for the covered
+ * fragments of a span at `depth` and `stencil` in the tile; true where a fragment passes both. f:
+ * the fragment, for the program's depth test (spans of one pixel, fragment_ops.cl). */
+CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_span_int covered,
+                                       clr_span_float frag_depth, __constant const DrawUniforms* u, __local float* depth,
+                                       __local uchar* stencil) {
+  __constant const StencilUniforms* s = &u->stencil[front_facing ? 0 : 1];
+  const clr_span_uint stored_stencil = CLR_SPAN_CONVERT(uint, CLR_SPAN_LOAD(stencil));
+  const clr_span_int stencil_passes = u->stencil_test ? clr_stencil_test(*s, stored_stencil) : CLR_SPAN_TRUE;
+  clr_span_int depth_passes = CLR_SPAN_TRUE;
+  const clr_span_float stored_depth = CLR_SPAN_LOAD(depth);
+  if (u->depth_test) {
+#if CLR_PROGRAM_DEPTH_TEST
+    if (u->depth_func == CLR_COMPARE_PROGRAM) {
+      depth_passes = !stencil_passes || clr_program_depth_test(f, frag_depth, stored_depth);
+    } else
+#endif
+      depth_passes = clr_compare(u->depth_func, frag_depth, stored_depth);
+  }
+  if (u->stencil_test) {
+    const clr_span_uint updated = clr_stencil_after_tests(*s, stencil_passes, depth_passes, stored_stencil);
+    CLR_SPAN_STORE(CLR_SPAN_CONVERT(uchar, select(stored_stencil, updated, covered)), stencil);
+  }
+  const clr_span_int passed = covered && stencil_passes && depth_passes;
+  if (u->depth_test && u->depth_write) CLR_SPAN_STORE(select(stored_depth, frag_depth, passed), depth);
+  return passed;
+}
+
+/* Output `target` of a span of fragments into a normalized or float attachment, where `written`:
+ * blending (OpenGL's equations, or the program's blend function for channels whose equation is
+ * CLR_BLEND_PROGRAM), the write mask, and quantization to the attachment's format. */
+CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_color source, clr_span_int written,
+                                       __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u) {
   const int format = u->target_format[target];
   if (format < 0) return;
-  __local uint4* pixel = &tile[target * CLR_TILE_PIXELS + lane];
-  const float4 destination = as_float4(*pixel);
+  clr_span_bits stored;
+  load_tile_span(tile, target, first_pixel, &stored);
+  const clr_span_color destination = CLR_SPAN_BITS_COLOR(stored);
   BlendUniforms b = u->blend[target];
-  float4 result = source;
+  clr_span_color result = source;
   /* The tile keeps what a store then a load of the attachment would give only where the draw reads
    * it back (blending, framebuffer fetch): otherwise the conversion when the tile is written out at
    * the end gives the same bytes. 8-bit blending's results are on the attachment's grid already. */
@@ -153,77 +174,153 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, float4 sour
   if (b.enabled) {
     const bool program_rgb = b.rgb_equation == CLR_BLEND_PROGRAM;
     const bool program_alpha = b.alpha_equation == CLR_BLEND_PROGRAM;
-    const float4 programmed =
-        program_rgb || program_alpha ? clr_program_blend(f, target, source, destination) : (float4)(0.0f);
+    /* Without a blend function, the program's blending gives the source colour. */
+    clr_span_color programmed = source;
+#if CLR_PROGRAM_BLEND /* spans of one pixel (fragment_ops.cl) */
+    if (program_rgb || program_alpha) {
+      programmed = CLR_SPAN_COLOR_SPLAT(
+          clr_program_blend(f, target, clr_span_color_lane(source, 0), clr_span_color_lane(destination, 0)));
+    }
+#endif
     if (program_rgb) b.rgb_equation = CLR_BLEND_ADD;
     if (program_alpha) b.alpha_equation = CLR_BLEND_ADD;
-    const float4 constant_color = vload4(0, u->blend_color);
+    const clr_span_color constant_color = CLR_SPAN_COLOR_SPLAT(vload4(0, u->blend_color));
     /* 8-bit linear attachments blend in 8-bit fixed point, as llvmpipe does (fragment_ops.cl). */
     const int channels = clr_texel_layout_of(format).channels;
-    const float4 fixed =
-        format <= CLR_FORMAT_RGBA8
-            ? clr_blend_unorm8(b, source, destination, constant_color, channels)
-            : clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels);
-    result = (float4)(program_rgb ? programmed.xyz : fixed.xyz, program_alpha ? programmed.w : fixed.w);
+    clr_span_color fixed;
+    if (format <= CLR_FORMAT_RGBA8) clr_blend_unorm8(b, source, destination, constant_color, channels, &fixed);
+    else clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels, &fixed);
+    for (int c = 0; c < 4; ++c) result.c[c] = (c < 3 ? program_rgb : program_alpha) ? programmed.c[c] : fixed.c[c];
     quantize = quantize || program_rgb || program_alpha || format > CLR_FORMAT_RGBA8;
   }
-  result = clr_apply_write_mask(b.write_mask, result, destination);
-  *pixel = as_uint4(quantize ? clr_quantize_float(format, result) : result);
+  clr_span_bits masked = CLR_SPAN_COLOR_BITS(result);
+  clr_apply_write_mask(b.write_mask, &masked, stored);
+  result = CLR_SPAN_BITS_COLOR(masked);
+  if (quantize) {
+    for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
+      clr_span_set_color_lane(&result, lane, clr_quantize_float(format, clr_span_color_lane(result, lane)));
+    }
+  }
+  store_tile_span(tile, target, first_pixel, stored, CLR_SPAN_COLOR_BITS(result), written);
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
-CLR_INLINE void clr_merge_integer_output(uint target, uint4 value, __local uint4* tile, uint lane,
-                                         __constant const DrawUniforms* u) {
+CLR_INLINE void clr_merge_integer_output(clr_fragment* f, uint target, clr_span_bits value, clr_span_int written,
+                                         __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
-  __local uint4* pixel = &tile[target * CLR_TILE_PIXELS + lane];
-  *pixel = select(*pixel, value, clr_write_mask_lanes(u->blend[target].write_mask));
+  clr_span_bits stored;
+  load_tile_span(tile, target, first_pixel, &stored);
+  clr_apply_write_mask(u->blend[target].write_mask, &value, stored);
+  store_tile_span(tile, target, first_pixel, stored, value, written);
 }
 
-/* One fragment of triangle t at pixel (x, y), the tile's pixel `lane`. `live`: the triangle covers
- * the pixel (a writable one); otherwise this is a helper invocation (quad shading only). */
-CLR_INLINE void process_fragment(const __local SetupTriangle* t, int x, int y, uint lane, bool live, clr_fragment* f,
-                                 __local uint4* tile_color, __local float* depth, __local uchar* stencil,
-                                 __constant const DrawUniforms* u) {
-  long e[3];
-  edge_values(t, x, y, e);
-  /* Barycentrics of the unsnapped triangle (see SetupTriangle), as llvmpipe interpolates: those of
-   * the snapped one are off by up to 1/512 pixel over the distance to an edge, which perspective
-   * magnifies (1e-3 of the texture coordinates near a horizon). */
-  const float X = (float)(x << CLR_SUBPIXEL_BITS);
-  const float Y = (float)(y << CLR_SUBPIXEL_BITS);
-  const float3 unsnapped = (float3)(unsnapped_edge(t, 0, e[0], X, Y), unsnapped_edge(t, 1, e[1], X, Y),
-                                    unsnapped_edge(t, 2, e[2], X, Y));
-  const float3 l = unsnapped * t->inv_double_area;
+/* What a span's fragments interpolate from: the barycentrics of the unsnapped triangle, in screen
+ * space (l) and divided by each vertex's w (pw), and depth. */
+typedef struct {
+  clr_span_float l[3];
+  clr_span_float pw[3];
+  clr_span_float inv_w; /* the sum of pw: 1 / w at the fragment */
+  clr_span_float norm;  /* 1 / inv_w */
+  clr_span_float z;     /* window depth, clamped to the depth range */
+} span_weights;
+
+/* The weights of triangle t for the span of pixels from (x, y) on its row, into *w. */
+CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, int x, int y, span_weights* w) {
+  const clr_span_int xs = x + CLR_SPAN_LANES;
+  const clr_span_long X = CLR_SPAN_CONVERT(long, xs) << CLR_SUBPIXEL_BITS;
+  const long Y = (long)y << CLR_SUBPIXEL_BITS;
+  const clr_span_float unsnapped_x = CLR_SPAN_CONVERT(float, xs << CLR_SUBPIXEL_BITS);
+  const float unsnapped_y = (float)(y << CLR_SUBPIXEL_BITS);
+  for (int k = 0; k < 3; ++k) {
+    /* Edge k's function E at the pixel centres (exact, in 64 bits), then for the vertices before
+     * snapping: barycentrics of the snapped triangle are off by up to 1/512 pixel over the distance
+     * to an edge, which perspective magnifies (1e-3 of the texture coordinates near a horizon),
+     * and llvmpipe interpolates with the unsnapped ones. */
+    const clr_span_long e = (long)t->edge_a[k] * X + ((long)t->edge_b[k] * Y + t->edge_c[k]);
+    const clr_span_float unsnapped =
+        CLR_SPAN_CONVERT(float, e) + (t->edge_correction[k][0] * unsnapped_x + t->edge_correction[k][1] * unsnapped_y +
+                                      t->edge_correction[k][2]);
+    w->l[k] = unsnapped * t->inv_double_area;
+  }
   /* Depth is linear in window space; OpenGL clamps it to the depth range. */
-  const float z = clamp(l.x * t->z[0] + l.y * t->z[1] + l.z * t->z[2], 0.0f, 1.0f);
+  w->z = clamp(w->l[0] * t->z[0] + w->l[1] * t->z[1] + w->l[2] * t->z[2], 0.0f, 1.0f);
   /* Perspective-correct: interpolate value / w and 1 / w linearly, then divide. */
-  const float3 pw = l * (float3)(t->inv_w[0], t->inv_w[1], t->inv_w[2]);
-  const float norm = 1.0f / (pw.x + pw.y + pw.z);
-  f->frag_coord = (float4)((float)x + 0.5f, (float)y + 0.5f, z, pw.x + pw.y + pw.z);
+  for (int k = 0; k < 3; ++k) w->pw[k] = w->l[k] * t->inv_w[k];
+  w->inv_w = w->pw[0] + w->pw[1] + w->pw[2];
+  w->norm = 1.0f / w->inv_w;
+}
+
+/* The fragment of triangle t in lane `lane` of the span from (x, y), the tile's pixel
+ * first_pixel + lane, interpolated. helper: a helper invocation of quad shading. */
+CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, span_weights w, int lane, int x, int y,
+                               uint first_pixel, bool helper) {
+  const float3 l = (float3)(CLR_SPAN_LANE(float, w.l[0], lane), CLR_SPAN_LANE(float, w.l[1], lane),
+                            CLR_SPAN_LANE(float, w.l[2], lane));
+  const float3 pw = (float3)(CLR_SPAN_LANE(float, w.pw[0], lane), CLR_SPAN_LANE(float, w.pw[1], lane),
+                             CLR_SPAN_LANE(float, w.pw[2], lane));
+  const float norm = CLR_SPAN_LANE(float, w.norm, lane);
+  const float z = CLR_SPAN_LANE(float, w.z, lane);
+  f->frag_coord = (float4)((float)(x + lane) + 0.5f, (float)y + 0.5f, z, CLR_SPAN_LANE(float, w.inv_w, lane));
   f->barycentric = pw * norm;
   f->frag_depth = z;
   f->primitive_id = t->primitive_id;
   f->front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
-  f->helper = !live;
+  f->helper = helper;
   f->discarded = false;
-  f->clr_lane = lane;
+  f->clr_lane = first_pixel + (uint)lane;
   const clr_outputs no_outputs = {0};
   f->out = no_outputs;
-#if CLR_EARLY_TESTS
-  /* Hidden fragments skip the interpolation too, unless the program's depth test may read it. */
-  const bool program_depth_test = u->depth_test && u->depth_func == CLR_COMPARE_PROGRAM;
-  if (program_depth_test) clr_interpolate_varyings(t, pw, norm, l, &f->in);
-  if (!fragment_tests(f, u, depth, stencil)) return;
-  if (!program_depth_test) clr_interpolate_varyings(t, pw, norm, l, &f->in);
-  fragment(f);
-#else
   clr_interpolate_varyings(t, pw, norm, l, &f->in);
-  fragment(f);
-  if (!live || f->discarded) return;
-  f->frag_depth = clamp(f->frag_depth, 0.0f, 1.0f);
-  if (!fragment_tests(f, u, depth, stencil)) return;
+}
+
+/* The fragments of triangle t in the span of the tile from its pixel first_pixel, at (x, y), where
+ * `covered` (writable pixels the triangle covers). In quad shading (spans of one pixel), an
+ * uncovered pixel runs the program as a helper. */
+CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint first_pixel, clr_span_int covered,
+                             clr_fragment* f, __local uint4* tile_color, __local float* tile_depth,
+                             __local uchar* tile_stencil, __constant const DrawUniforms* u) {
+  span_weights w;
+  interpolation_weights(t, x, y, &w);
+  const bool front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
+  __local float* depth = &tile_depth[first_pixel];
+  __local uchar* stencil = &tile_stencil[first_pixel];
+  clr_span_outputs outputs = {0};
+#if CLR_EARLY_TESTS
+  /* Hidden fragments skip the program and the interpolation, unless the program's depth test may
+   * read them (spans of one pixel). */
+#if CLR_PROGRAM_DEPTH_TEST
+  const bool program_depth_test = u->depth_test && u->depth_func == CLR_COMPARE_PROGRAM;
+  if (program_depth_test) start_fragment(f, t, w, 0, x, y, first_pixel, false);
+#else
+  const bool program_depth_test = false;
 #endif
-  clr_write_outputs(f, tile_color, lane, u);
+  const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, depth, stencil);
+  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
+    if (!CLR_SPAN_LANE(int, written, lane)) continue;
+    if (!program_depth_test) start_fragment(f, t, w, lane, x, y, first_pixel, false);
+    fragment(f);
+    clr_gather_outputs(f, lane, &outputs);
+  }
+#else
+  clr_span_int kept = covered;
+  clr_span_float frag_depth = w.z;
+  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
+    const bool live = CLR_SPAN_LANE(int, covered, lane) != 0;
+#if !CLR_QUAD_SHADING /* quad shading runs the program for uncovered pixels too, as helpers */
+    if (!live) continue;
+#endif
+    start_fragment(f, t, w, lane, x, y, first_pixel, !live);
+    fragment(f);
+    if (!live || f->discarded) {
+      CLR_SPAN_LANE(int, kept, lane) = 0;
+      continue;
+    }
+    CLR_SPAN_LANE(float, frag_depth, lane) = clamp(f->frag_depth, 0.0f, 1.0f);
+    clr_gather_outputs(f, lane, &outputs);
+  }
+  const clr_span_int written = fragment_tests(f, front_facing, kept, frag_depth, u, depth, stencil);
+#endif
+  if (clr_span_any(written)) clr_merge_outputs(f, &outputs, written, tile_color, first_pixel, u);
 }
 
 __kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1)))
@@ -294,8 +391,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) any |= masks[i][w];
       /* The same decision in every work-item, so all of them reach the program's barriers. */
       if (!any) continue;
-      process_fragment(&batch[i], x, y, item, (masks[i][item / 64] >> (item % 64)) & 1u, &f, tile_color,
-                       &tile_depth[item], &tile_stencil[item], u);
+      process_span(&batch[i], x, y, item, clr_span_lanes_from_bits((uint)(masks[i][item / 64] >> (item % 64))), &f,
+                   tile_color, tile_depth, tile_stencil, u);
       /* What follows the program's last barrier branches per pixel (helper or not, discard, the
        * tests, blending, the program's own code). Those branches must meet again at a barrier before
        * the loop goes on: PoCL otherwise takes a branch that leads on toward the next iteration's
@@ -305,13 +402,19 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     }
 #else
     /* Each work-item shades the fragments of its own pixels, triangle by triangle in primitive
-     * order, visiting only the pixels each triangle covers. */
+     * order, visiting only the spans each triangle covers. */
     for (uint i = 0; i < n; ++i) {
       for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) {
-        for (ulong bits = masks[i][w] & own_pixels(w, item); bits != 0; bits &= bits - 1) {
-          const uint lane = (uint)w * 64 + (63 - clz(bits & (0 - bits)));
-          process_fragment(&batch[i], origin.x + (int)(lane % CLR_TILE_SIZE), origin.y + (int)(lane / CLR_TILE_SIZE),
-                           lane, true, &f, tile_color, &tile_depth[lane], &tile_stencil[lane], u);
+        ulong bits = masks[i][w] & own_pixels(w, item);
+        while (bits != 0) {
+          /* The span of the lowest pixel left: span-aligned, within one row of the tile. */
+          const uint first = ((63 - clz(bits & (0 - bits))) & 63) / CLR_SPAN_PIXELS * CLR_SPAN_PIXELS;
+          const uint covered = (uint)((bits >> first) & CLR_SPAN_BITS);
+          bits &= ~(CLR_SPAN_BITS << first);
+          const uint first_pixel = (uint)w * 64 + first;
+          process_span(&batch[i], origin.x + (int)(first_pixel % CLR_TILE_SIZE),
+                       origin.y + (int)(first_pixel / CLR_TILE_SIZE), first_pixel, clr_span_lanes_from_bits(covered), &f,
+                       tile_color, tile_depth, tile_stencil, u);
         }
       }
     }
@@ -332,4 +435,9 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
     if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
   }
+  /* The pixels outside the clip rectangle meet the others here, not at the kernel's end, which the
+   * groups of empty tiles reach from their early return: PoCL (3.1) took a branch joining that
+   * path as uniform, so in a group of many work-items every pixel followed work-item 0 and the
+   * rows below a partial tile were written outside the framebuffer. */
+  barrier(CLK_LOCAL_MEM_FENCE);
 }
