@@ -130,7 +130,7 @@ typedef struct {
   clr_buffers buffers;
   /* The pipeline's: */
   __local float4* clr_quad;        /* derivative exchange, one slot per work-item of the tile */
-  __local const uint4* clr_tile;   /* the tile's colour attachments, for framebuffer fetch */
+  __local const uint* clr_tile;    /* the tile's colour attachments (CLR_TILE_WORD), for framebuffer fetch */
   __constant const DrawUniforms* clr_draw;
   uint clr_lane;                   /* this pixel's work-item in the tile */
 } clr_fragment;
@@ -146,7 +146,7 @@ float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 des
 #endif
 CLR_INLINE void clr_gather_outputs(const clr_fragment* f, int lane, clr_span_outputs* outputs);
 CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,
-                                  __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u);
+                                  __local uint* tile, uint first_pixel, __constant const DrawUniforms* u);
 
 )";
 
@@ -246,7 +246,7 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
   }
   out << "}\n\n"
       << "CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,\n"
-      << "                                  __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u) {\n";
+      << "                                  __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {\n";
   for (std::size_t k = 0; k < in.outputs.size(); ++k) {
     const ProgramVariable& o = in.outputs[k];
     out << "  clr_merge_" << (o.type == "float4" ? "float" : "integer") << "_output(f, " << k << ", outputs->" << o.name

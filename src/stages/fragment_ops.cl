@@ -40,7 +40,8 @@
 #define clr_span_any(mask) any(mask)
 #define CLR_SPAN_LOAD(pointer) vload8(0, pointer)
 #define CLR_SPAN_STORE(value, pointer) vstore8(value, 0, pointer)
-/* Lane `lane` of the span vector `vector` (a private variable), as an lvalue. */
+/* Lane `lane` of the span vector `vector` (a private variable), read through memory: the index
+ * varies. Lanes are written with CLR_SPAN_SET_LANE. */
 #define CLR_SPAN_LANE(type, vector, lane) (((type*)&(vector))[lane])
 #else
 #error "CLR_CPU_SPAN_PIXELS must be 8"
@@ -68,22 +69,38 @@ CLR_INLINE clr_span_int clr_span_lanes_from_bits(uint bits) {
   return (((clr_span_int)((int)bits) >> CLR_SPAN_LANES) & 1) != 0;
 }
 
+/* Bits from lanes: bit k set where lane k of `mask` is true. */
+CLR_INLINE uint clr_span_bits_of_lanes(clr_span_int mask) {
+#if CLR_SPAN_PIXELS == 1
+  return mask != 0;
+#else
+  const clr_span_uint bits = CLR_SPAN_AS(uint, mask) & (CLR_SPAN(uint))(1u) << CLR_SPAN_AS(uint, CLR_SPAN_LANES);
+  const uint4 halves = bits.lo | bits.hi;
+  const uint2 quarters = halves.lo | halves.hi;
+  return quarters.x | quarters.y;
+#endif
+}
+
 /* The pixel in lane `lane` as a float4, and a float4 into lane `lane`. */
 CLR_INLINE float4 clr_span_color_lane(clr_span_color color, int lane) {
   return (float4)(CLR_SPAN_LANE(float, color.c[0], lane), CLR_SPAN_LANE(float, color.c[1], lane),
                   CLR_SPAN_LANE(float, color.c[2], lane), CLR_SPAN_LANE(float, color.c[3], lane));
 }
+/* Lane `lane` set by selection, in registers: a scalar store into a vector in memory that is then
+ * read as a vector stalls the load (no store forwarding), per channel and pixel. */
+#define CLR_SPAN_SET_LANE(vector, lane, value) \
+  ((vector) = select((vector), (__typeof__(vector))(value), CLR_SPAN_LANES == (lane)))
 CLR_INLINE void clr_span_set_color_lane(clr_span_color* color, int lane, float4 value) {
-  CLR_SPAN_LANE(float, color->c[0], lane) = value.x;
-  CLR_SPAN_LANE(float, color->c[1], lane) = value.y;
-  CLR_SPAN_LANE(float, color->c[2], lane) = value.z;
-  CLR_SPAN_LANE(float, color->c[3], lane) = value.w;
+  CLR_SPAN_SET_LANE(color->c[0], lane, value.x);
+  CLR_SPAN_SET_LANE(color->c[1], lane, value.y);
+  CLR_SPAN_SET_LANE(color->c[2], lane, value.z);
+  CLR_SPAN_SET_LANE(color->c[3], lane, value.w);
 }
 CLR_INLINE void clr_span_set_bits_lane(clr_span_bits* bits, int lane, uint4 value) {
-  CLR_SPAN_LANE(uint, bits->c[0], lane) = value.x;
-  CLR_SPAN_LANE(uint, bits->c[1], lane) = value.y;
-  CLR_SPAN_LANE(uint, bits->c[2], lane) = value.z;
-  CLR_SPAN_LANE(uint, bits->c[3], lane) = value.w;
+  CLR_SPAN_SET_LANE(bits->c[0], lane, value.x);
+  CLR_SPAN_SET_LANE(bits->c[1], lane, value.y);
+  CLR_SPAN_SET_LANE(bits->c[2], lane, value.z);
+  CLR_SPAN_SET_LANE(bits->c[3], lane, value.w);
 }
 /* Every lane the same colour; a span's colours as bits and back (macros, not functions: LLVM's
  * inliner marks a function's returned structure with an intrinsic Oclgrind cannot run, so nothing
@@ -98,9 +115,13 @@ CLR_INLINE void clr_span_set_bits_lane(clr_span_bits* bits, int lane, uint4 valu
   ((clr_span_color){{CLR_SPAN_AS(float, (bits).c[0]), CLR_SPAN_AS(float, (bits).c[1]), \
                      CLR_SPAN_AS(float, (bits).c[2]), CLR_SPAN_AS(float, (bits).c[3])}})
 
-/* The rasterizer's tile (raster.cl) holds a colour attachment's pixel as one uint4. */
-CLR_INLINE uint4 clr_tile_pixel(__local const uint4* tile, uint target, uint pixel) {
-  return tile[target * CLR_TILE_SIZE * CLR_TILE_SIZE + pixel];
+/* The rasterizer's tile (raster.cl) holds each colour attachment channel by channel, so that a span
+ * of one channel is one vector: channel c of attachment k at the tile's pixel p is word
+ * CLR_TILE_WORD(k, c, p). */
+#define CLR_TILE_WORD(target, channel, pixel) (((target) * 4 + (channel)) * CLR_TILE_SIZE * CLR_TILE_SIZE + (pixel))
+CLR_INLINE uint4 clr_tile_pixel(__local const uint* tile, uint target, uint pixel) {
+  return (uint4)(tile[CLR_TILE_WORD(target, 0, pixel)], tile[CLR_TILE_WORD(target, 1, pixel)],
+                 tile[CLR_TILE_WORD(target, 2, pixel)], tile[CLR_TILE_WORD(target, 3, pixel)]);
 }
 
 /* ---- Comparisons (GL 4.6 17.3.3, 17.3.4) ---------------------------------------------------------

@@ -16,9 +16,10 @@
  * attachment's format, for each output. A program that neither discards nor writes depth nor takes
  * derivatives has its tests run first (early fragment tests), so hidden fragments skip it.
  *
- * Tile storage: a colour attachment's pixel is a uint4 holding the decoded value exactly as the
- * attachment stores it (float4 bits for normalized and float formats, already quantized to the
- * format where the draw reads the tile back; int4 or uint4 for integer ones). Programs that take
+ * Tile storage: a colour attachment's pixel is four 32-bit words, kept channel by channel so that
+ * a span of one channel is one vector (CLR_TILE_WORD), holding the decoded value exactly as the
+ * attachment stores it (float bits for normalized and float formats, already quantized to the
+ * format where the draw reads the tile back; int or uint for integer ones). Programs that take
  * derivatives are shaded in 2x2 quads, one work-item per pixel: every work-item runs the program for
  * every triangle that covers any pixel of the tile, the uncovered ones as helpers whose results are
  * thrown away (prelude.cl exchanges the values). */
@@ -112,18 +113,13 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
 }
 
 /* A colour attachment's span in the tile, and the span written back where `written` is true. */
-CLR_INLINE void load_tile_span(__local const uint4* tile, uint target, uint first_pixel, clr_span_bits* bits) {
-  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
-    clr_span_set_bits_lane(bits, lane, tile[target * CLR_TILE_PIXELS + first_pixel + lane]);
-  }
+CLR_INLINE void load_tile_span(__local const uint* tile, uint target, uint first_pixel, clr_span_bits* bits) {
+  for (int c = 0; c < 4; ++c) bits->c[c] = CLR_SPAN_LOAD(&tile[CLR_TILE_WORD(target, c, first_pixel)]);
 }
-CLR_INLINE void store_tile_span(__local uint4* tile, uint target, uint first_pixel, clr_span_bits stored,
+CLR_INLINE void store_tile_span(__local uint* tile, uint target, uint first_pixel, clr_span_bits stored,
                                 clr_span_bits value, clr_span_int written) {
-  for (int c = 0; c < 4; ++c) value.c[c] = select(stored.c[c], value.c[c], written);
-  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
-    tile[target * CLR_TILE_PIXELS + first_pixel + lane] =
-        (uint4)(CLR_SPAN_LANE(uint, value.c[0], lane), CLR_SPAN_LANE(uint, value.c[1], lane),
-                CLR_SPAN_LANE(uint, value.c[2], lane), CLR_SPAN_LANE(uint, value.c[3], lane));
+  for (int c = 0; c < 4; ++c) {
+    CLR_SPAN_STORE(select(stored.c[c], value.c[c], written), &tile[CLR_TILE_WORD(target, c, first_pixel)]);
   }
 }
 
@@ -159,7 +155,7 @@ CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_s
  * blending (OpenGL's equations, or the program's blend function for channels whose equation is
  * CLR_BLEND_PROGRAM), the write mask, and quantization to the attachment's format. */
 CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_color source, clr_span_int written,
-                                       __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u) {
+                                       __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {
   const int format = u->target_format[target];
   if (format < 0) return;
   clr_span_bits stored;
@@ -206,7 +202,7 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_co
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
 CLR_INLINE void clr_merge_integer_output(clr_fragment* f, uint target, clr_span_bits value, clr_span_int written,
-                                         __local uint4* tile, uint first_pixel, __constant const DrawUniforms* u) {
+                                         __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
   clr_span_bits stored;
   load_tile_span(tile, target, first_pixel, &stored);
@@ -214,14 +210,12 @@ CLR_INLINE void clr_merge_integer_output(clr_fragment* f, uint target, clr_span_
   store_tile_span(tile, target, first_pixel, stored, value, written);
 }
 
-/* What a span's fragments interpolate from: the barycentrics of the unsnapped triangle, in screen
- * space (l) and divided by each vertex's w (pw), and depth. */
+/* What a span's fragments interpolate from: the barycentrics of the unsnapped triangle in screen
+ * space, and depth, which the tests need for every lane. The perspective division waits for the
+ * fragments that pass (start_fragment): a small triangle's span has few. */
 typedef struct {
   clr_span_float l[3];
-  clr_span_float pw[3];
-  clr_span_float inv_w; /* the sum of pw: 1 / w at the fragment */
-  clr_span_float norm;  /* 1 / inv_w */
-  clr_span_float z;     /* window depth, clamped to the depth range */
+  clr_span_float z; /* window depth, clamped to the depth range */
 } span_weights;
 
 /* The weights of triangle t for the span of pixels from (x, y) on its row, into *w. */
@@ -244,10 +238,6 @@ CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, int x, int
   }
   /* Depth is linear in window space; OpenGL clamps it to the depth range. */
   w->z = clamp(w->l[0] * t->z[0] + w->l[1] * t->z[1] + w->l[2] * t->z[2], 0.0f, 1.0f);
-  /* Perspective-correct: interpolate value / w and 1 / w linearly, then divide. */
-  for (int k = 0; k < 3; ++k) w->pw[k] = w->l[k] * t->inv_w[k];
-  w->inv_w = w->pw[0] + w->pw[1] + w->pw[2];
-  w->norm = 1.0f / w->inv_w;
 }
 
 /* The fragment of triangle t in lane `lane` of the span from (x, y), the tile's pixel
@@ -256,11 +246,12 @@ CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, 
                                uint first_pixel, bool helper) {
   const float3 l = (float3)(CLR_SPAN_LANE(float, w.l[0], lane), CLR_SPAN_LANE(float, w.l[1], lane),
                             CLR_SPAN_LANE(float, w.l[2], lane));
-  const float3 pw = (float3)(CLR_SPAN_LANE(float, w.pw[0], lane), CLR_SPAN_LANE(float, w.pw[1], lane),
-                             CLR_SPAN_LANE(float, w.pw[2], lane));
-  const float norm = CLR_SPAN_LANE(float, w.norm, lane);
+  /* Perspective-correct: interpolate value / w and 1 / w linearly, then divide. */
+  const float3 pw = l * (float3)(t->inv_w[0], t->inv_w[1], t->inv_w[2]);
+  const float inv_w = pw.x + pw.y + pw.z;
+  const float norm = 1.0f / inv_w;
   const float z = CLR_SPAN_LANE(float, w.z, lane);
-  f->frag_coord = (float4)((float)(x + lane) + 0.5f, (float)y + 0.5f, z, CLR_SPAN_LANE(float, w.inv_w, lane));
+  f->frag_coord = (float4)((float)(x + lane) + 0.5f, (float)y + 0.5f, z, inv_w);
   f->barycentric = pw * norm;
   f->frag_depth = z;
   f->primitive_id = t->primitive_id;
@@ -277,7 +268,7 @@ CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, 
  * `covered` (writable pixels the triangle covers). In quad shading (spans of one pixel), an
  * uncovered pixel runs the program as a helper. */
 CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint first_pixel, clr_span_int covered,
-                             clr_fragment* f, __local uint4* tile_color, __local float* tile_depth,
+                             clr_fragment* f, __local uint* tile_color, __local float* tile_depth,
                              __local uchar* tile_stencil, __constant const DrawUniforms* u) {
   span_weights w;
   interpolation_weights(t, x, y, &w);
@@ -295,8 +286,9 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
   const bool program_depth_test = false;
 #endif
   const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, depth, stencil);
-  for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
-    if (!CLR_SPAN_LANE(int, written, lane)) continue;
+  /* Only the lanes that passed, in order: a span of a small triangle has one or two. */
+  for (uint lanes = clr_span_bits_of_lanes(written); lanes != 0; lanes &= lanes - 1) {
+    const int lane = 31 - clz(lanes & (0 - lanes));
     if (!program_depth_test) start_fragment(f, t, w, lane, x, y, first_pixel, false);
     fragment(f);
     clr_gather_outputs(f, lane, &outputs);
@@ -312,10 +304,10 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
     start_fragment(f, t, w, lane, x, y, first_pixel, !live);
     fragment(f);
     if (!live || f->discarded) {
-      CLR_SPAN_LANE(int, kept, lane) = 0;
+      CLR_SPAN_SET_LANE(kept, lane, 0);
       continue;
     }
-    CLR_SPAN_LANE(float, frag_depth, lane) = clamp(f->frag_depth, 0.0f, 1.0f);
+    CLR_SPAN_SET_LANE(frag_depth, lane, clamp(f->frag_depth, 0.0f, 1.0f));
     clr_gather_outputs(f, lane, &outputs);
   }
   const clr_span_int written = fragment_tests(f, front_facing, kept, frag_depth, u, depth, stencil);
@@ -330,7 +322,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
                   uint stencil_offset CLR_TARGET_PARAMS CLR_RESOURCE_PARAMS) {
   __local SetupTriangle batch[CLR_RASTER_TRIANGLE_BATCH];
   __local ulong masks[CLR_RASTER_TRIANGLE_BATCH][CLR_TILE_MASK_WORDS]; /* coverage_mask of each */
-  __local uint4 tile_color[CLR_TILE_TARGETS * CLR_TILE_PIXELS];
+  __local uint tile_color[CLR_TILE_TARGETS * 4 * CLR_TILE_PIXELS]; /* CLR_TILE_WORD */
   __local float tile_depth[CLR_TILE_PIXELS];
   __local uchar tile_stencil[CLR_TILE_PIXELS];
 #if CLR_QUAD_SHADING
@@ -356,8 +348,11 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_NUM_OUTPUTS > 0
     for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
       const int format = u->target_format[k];
-      tile_color[k * CLR_TILE_PIXELS + lane] =
-          writable && format >= 0 ? load_attachment_pixel(format, targets[k], pixel) : (uint4)(0);
+      const uint4 value = writable && format >= 0 ? load_attachment_pixel(format, targets[k], pixel) : (uint4)(0);
+      tile_color[CLR_TILE_WORD(k, 0, lane)] = value.x;
+      tile_color[CLR_TILE_WORD(k, 1, lane)] = value.y;
+      tile_color[CLR_TILE_WORD(k, 2, lane)] = value.z;
+      tile_color[CLR_TILE_WORD(k, 3, lane)] = value.w;
     }
 #endif
     tile_depth[lane] = writable && u->depth_test ? depth[pixel] : 0.0f;
@@ -424,16 +419,17 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   for (uint lane = item; lane < CLR_TILE_PIXELS; lane += CLR_RASTER_GROUP) {
     const int x = origin.x + (int)(lane % CLR_TILE_SIZE);
     const int y = origin.y + (int)(lane / CLR_TILE_SIZE);
-    if (!(x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3])) continue;
-    const uint pixel = (uint)y * framebuffer_width + (uint)x;
+    if (x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3]) {
+      const uint pixel = (uint)y * framebuffer_width + (uint)x;
 #if CLR_NUM_OUTPUTS > 0
-    for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
-      const int format = u->target_format[k];
-      if (format >= 0) store_attachment_pixel(format, targets[k], pixel, tile_color[k * CLR_TILE_PIXELS + lane]);
-    }
+      for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
+        const int format = u->target_format[k];
+        if (format >= 0) store_attachment_pixel(format, targets[k], pixel, clr_tile_pixel(tile_color, k, lane));
+      }
 #endif
-    if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
-    if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
+      if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
+      if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
+    }
   }
   /* The pixels outside the clip rectangle meet the others here, not at the kernel's end, which the
    * groups of empty tiles reach from their early return: PoCL (3.1) took a branch joining that
