@@ -249,8 +249,9 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
       << "                                  __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {\n";
   for (std::size_t k = 0; k < in.outputs.size(); ++k) {
     const ProgramVariable& o = in.outputs[k];
-    out << "  clr_merge_" << (o.type == "float4" ? "float" : "integer") << "_output(f, " << k << ", outputs->" << o.name
-        << ", written, tile, first_pixel, u);\n";
+    // Only float outputs take the fragment: the program's blend function may read it.
+    out << "  " << (o.type == "float4" ? "clr_merge_float_output(f, " : "clr_merge_integer_output(") << k
+        << ", outputs->" << o.name << ", written, tile, first_pixel, u);\n";
   }
   out << "}\n";
 }

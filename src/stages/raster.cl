@@ -201,8 +201,8 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_co
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
-CLR_INLINE void clr_merge_integer_output(clr_fragment* f, uint target, clr_span_bits value, clr_span_int written,
-                                         __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {
+CLR_INLINE void clr_merge_integer_output(uint target, clr_span_bits value, clr_span_int written, __local uint* tile,
+                                         uint first_pixel, __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
   clr_span_bits stored;
   load_tile_span(tile, target, first_pixel, &stored);
