@@ -1,6 +1,7 @@
 #include "program/generator.hpp"
 
 #include "cl/kernel_sources.hpp"
+#include "stages/types.h"
 
 #include <algorithm>
 #include <sstream>
@@ -57,7 +58,7 @@ void emit_constants(std::ostringstream& out, const ParsedProgram& p) {
   const ProgramInterface& in = p.interface;
   out << "/* Generated for this program by clraster (program/generator.cpp). */\n"
       << "#define CLR_NUM_VARYINGS " << varying_float_count(p) << "\n"
-      << "#define CLR_SHADED_VERTEX_FLOAT4S " << 1 + (varying_float_count(p) + 3) / 4 << "\n"
+      << "#define CLR_SHADED_VERTEX_FLOAT4S " << shaded_vertex_bytes(p) / 16 << "\n"
       << "#define CLR_NUM_OUTPUTS " << in.outputs.size() << "\n"
       << "#define CLR_QUAD_SHADING " << (in.uses_derivatives ? 1 : 0) << "\n"
       << "#define CLR_EARLY_TESTS " << (early_fragment_tests(p) ? 1 : 0) << "\n"
@@ -262,7 +263,9 @@ bool early_fragment_tests(const ParsedProgram& p) {
   return !p.may_discard && !p.writes_depth && !p.interface.uses_derivatives;
 }
 
-std::size_t shaded_vertex_bytes(const ParsedProgram& p) { return 16 * (1 + (varying_float_count(p) + 3) / 4); }
+std::size_t shaded_vertex_bytes(const ParsedProgram& p) {
+  return 16 * (CLR_SHADED_VARYINGS + (varying_float_count(p) + 3) / 4);  // layout in stages/types.h
+}
 
 std::size_t setup_triangle_bytes(const ParsedProgram& p) {
   // SetupTriangle (types.h): 128 bytes of fixed fields and 3 vertices' varyings, padded to its
@@ -285,7 +288,7 @@ std::string generate_stage_program(const ParsedProgram& p, const std::string& us
   emit_interface(interface, p);
   out << cl_sources::compose({"program/prelude.cl"});
   out << "#line 1 \"" << quoted << "\"\n" << user_source << "\n";
-  out << cl_sources::compose({"stages/vertex.cl", "stages/clip.cl", "stages/fixed_point.cl", "stages/primitive.cl",
+  out << cl_sources::compose({"stages/clip.cl", "stages/fixed_point.cl", "stages/vertex.cl", "stages/primitive.cl",
                               "stages/setup.cl", "stages/bin.cl", "stages/raster.cl"});
   out << "#line 1 \"<clraster generated glue>\"\n";
   emit_glue(out, p);

@@ -14,19 +14,26 @@ typedef struct {
   float varyings[CLR_NUM_VARYINGS];
 } WindowVertex;
 
-/* Returns false when the position cannot be projected (w = 0: only a vertex at the origin of clip
- * space survives clipping with w = 0). */
-inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
-  const float inv_w = 1.0f / v->position.w;
-  const float x = v->position.x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
-  const float y = v->position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
-  const float z = v->position.z * inv_w * 0.5f + 0.5f;
+/* Projects and snaps a clip-space position into `out` (all but its varyings). Returns false when
+ * it cannot be projected (w = 0: only a vertex at the origin of clip space survives clipping with
+ * w = 0). */
+inline bool project_position(float4 position, __constant const DrawUniforms* u, WindowVertex* out) {
+  const float inv_w = 1.0f / position.w;
+  const float x = position.x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
+  const float y = position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
+  const float z = position.z * inv_w * 0.5f + 0.5f;
   if (!isfinite(x) || !isfinite(y) || !isfinite(z)) return false;
   const float2 unsnapped = (float2)(x - 0.5f, y - 0.5f) * (float)CLR_SUBPIXEL_ONE;
   out->fixed = convert_int2_rte(unsnapped);
   out->residual = unsnapped - convert_float2(out->fixed);
   out->z = z;
   out->inv_w = inv_w;
+  return true;
+}
+
+/* project_position with the vertex's varyings. */
+inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
+  if (!project_position(v->position, u, out)) return false;
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) out->varyings[k] = v->varyings[k];
   return true;
 }

@@ -6,8 +6,9 @@
  *   strip  (p, p + 1, p + 2) for even p, (p + 1, p, p + 2) for odd p, so every triangle keeps the
  *          strip's winding
  *   fan    (0, p + 1, p + 2)
- * Triangle set-up (setup.cl) then clips it when it crosses a plane (clip.cl), projects and snaps it
- * (fixed_point.cl), and culls it. */
+ * Triangle set-up (setup.cl) then decides from the vertices' clip codes whether it is dropped,
+ * rejected, clipped (clip.cl) or taken as the vertex stage projected and snapped it (fixed_point.cl),
+ * and culls it. */
 
 inline uint3 primitive_stream_positions(int topology, uint p) {
   if (topology == CLR_TOPOLOGY_LIST) return (uint3)(3 * p, 3 * p + 1, 3 * p + 2);
@@ -26,31 +27,70 @@ inline uint vertex_slot(uint position, const SlotMap* slots, __global const ucha
   return position - slots->stream_begin;
 }
 
-inline bool load_clip_vertex(__global const float4* shaded, uint slot, ClipVertex* v) {
-  __global const float4* in = shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
-  v->position = in[0];
-  __global const float* varyings = (__global const float*)(in + 1);
-  for (int k = 0; k < CLR_NUM_VARYINGS; ++k) v->varyings[k] = varyings[k];
-  return all(isfinite(v->position));
+/* The vertex slots of primitive p's three vertices. */
+inline uint3 primitive_slots(uint p, const SlotMap* slots, __global const uchar* indices, __constant const DrawUniforms* u) {
+  const uint3 positions = primitive_stream_positions(u->topology, p);
+  return (uint3)(vertex_slot(positions.x, slots, indices, u), vertex_slot(positions.y, slots, indices, u),
+                 vertex_slot(positions.z, slots, indices, u));
 }
 
-/* The three clip-space vertices of primitive p. False when one has a non-finite position: the
- * primitive is dropped (and counted). */
-bool assemble_primitive(uint p, const SlotMap* slots, __global const uchar* indices, __global const float4* shaded,
-                        __constant const DrawUniforms* u, ClipVertex* triangle) {
-  const uint3 positions = primitive_stream_positions(u->topology, p);
-  bool finite = load_clip_vertex(shaded, vertex_slot(positions.x, slots, indices, u), &triangle[0]);
-  finite &= load_clip_vertex(shaded, vertex_slot(positions.y, slots, indices, u), &triangle[1]);
-  finite &= load_clip_vertex(shaded, vertex_slot(positions.z, slots, indices, u), &triangle[2]);
+inline __global const float4* shaded_slot(__global const float4* shaded, uint slot) {
+  return shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
+}
+
+/* The union of the three vertices' clip codes (types.h) in .x, their intersection in .y. */
+inline uint2 primitive_codes(__global const float4* shaded, uint3 slots) {
+  const uint c0 = as_uint(shaded_slot(shaded, slots.x)[CLR_SHADED_WINDOW + 1].z);
+  const uint c1 = as_uint(shaded_slot(shaded, slots.y)[CLR_SHADED_WINDOW + 1].z);
+  const uint c2 = as_uint(shaded_slot(shaded, slots.z)[CLR_SHADED_WINDOW + 1].z);
+  return (uint2)(c0 | c1 | c2, c0 & c1 & c2);
+}
+
+/* Flat varyings take the provoking vertex's value: the last one (GL_LAST_VERTEX_CONVENTION). */
+inline void take_provoking_flat_varyings(float* v0, float* v1, const float* v2) {
 #if CLR_HAS_FLAT_VARYINGS
-  /* Flat varyings take the provoking vertex's value: the last one (GL_LAST_VERTEX_CONVENTION). */
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) {
-    if (clr_varying_interpolation[k] == CLR_INTERPOLATE_FLAT) {
-      triangle[0].varyings[k] = triangle[1].varyings[k] = triangle[2].varyings[k];
-    }
+    if (clr_varying_interpolation[k] == CLR_INTERPOLATE_FLAT) v0[k] = v1[k] = v2[k];
   }
 #endif
-  return finite;
+}
+
+inline void load_varyings(__global const float4* slot, float* varyings) {
+  __global const float* in = (__global const float*)(slot + CLR_SHADED_VARYINGS);
+  for (int k = 0; k < CLR_NUM_VARYINGS; ++k) varyings[k] = in[k];
+}
+
+/* The three clip-space vertices of a primitive, for clipping. */
+void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVertex* triangle) {
+  const uint s[3] = {slots.x, slots.y, slots.z};
+  for (int i = 0; i < 3; ++i) {
+    __global const float4* in = shaded_slot(shaded, s[i]);
+    triangle[i].position = in[0];
+    load_varyings(in, triangle[i].varyings);
+  }
+  take_provoking_flat_varyings(triangle[0].varyings, triangle[1].varyings, triangle[2].varyings);
+}
+
+/* The window positions of a primitive inside every clip plane, as the vertex stage projected them;
+ * their varyings wait for load_window_varyings, which culled triangles never need. */
+void assemble_window_triangle(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
+  const uint s[3] = {slots.x, slots.y, slots.z};
+  for (int i = 0; i < 3; ++i) {
+    __global const float4* in = shaded_slot(shaded, s[i]) + CLR_SHADED_WINDOW;
+    const float4 position = in[0];
+    const float4 depth = in[1];
+    triangle[i].fixed = as_int2(position.xy);
+    triangle[i].residual = position.zw;
+    triangle[i].z = depth.x;
+    triangle[i].inv_w = depth.y;
+  }
+}
+
+void load_window_varyings(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
+  load_varyings(shaded_slot(shaded, slots.x), triangle[0].varyings);
+  load_varyings(shaded_slot(shaded, slots.y), triangle[1].varyings);
+  load_varyings(shaded_slot(shaded, slots.z), triangle[2].varyings);
+  take_provoking_flat_varyings(triangle[0].varyings, triangle[1].varyings, triangle[2].varyings);
 }
 
 /* Clips a triangle that crosses `planes` (poly holds CLR_MAX_CLIP_VERTICES) and projects what is left

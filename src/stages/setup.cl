@@ -1,11 +1,12 @@
 /* setup.cl: triangle set-up, one pass over a chunk's primitives.
  *
- * Almost every primitive is a triangle inside all clip planes: triangle_setup projects, snaps and
- * culls it and writes it straight into the primitive's own record, with the number of tiles its
- * bounding box touches (0 when culled). A primitive that crosses a plane (rare) keeps no record there:
- * it only counts the triangles clipping leaves of it; after a scan of those counts, clipped_setup
- * writes them into the overflow records and sums their tiles into the primitive's pair count. The
- * pair counts stay per primitive either way, so the bin pairs come out in primitive order. */
+ * Almost every primitive is a triangle inside all clip planes: triangle_setup takes its vertices as
+ * the vertex stage projected and snapped them, culls it and writes it straight into the primitive's
+ * own record, with the number of tiles its bounding box touches (0 when culled). A primitive that
+ * crosses a plane (rare) keeps no record there: it only counts the triangles clipping leaves of it;
+ * after a scan of those counts, clipped_setup writes them into the overflow records and sums their
+ * tiles into the primitive's pair count. The pair counts stay per primitive either way, so the bin
+ * pairs come out in primitive order. */
 
 /* Writes the record of a triangle that survived culling (which measured `extent`); returns the
  * number of tiles its bounding box touches. */
@@ -70,24 +71,28 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
   if (i >= primitive_count) return;
   uint pairs = 0;
   uint clipped = 0;
-  ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
-  TriangleExtent extent;
-  if (!assemble_primitive(primitive_begin + i, &slots, indices, shaded, u, triangle)) {
+  const uint3 vertex_slots = primitive_slots(primitive_begin + i, &slots, indices, u);
+  const uint2 codes = primitive_codes(shaded, vertex_slots);
+  const uint planes = codes.x & CLR_VERTEX_OUTSIDE_PLANES;
+  if (codes.x & CLR_VERTEX_NOT_FINITE) {
     atomic_inc(&counters[CLR_COUNTER_DROPPED]);
-  } else {
-    const uint planes = triangle_clip_planes(triangle, vload2(0, u->guard_min), vload2(0, u->guard_max));
-    WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
-    if (planes == 0) {
-      if (project_vertex(&triangle[0], u, &polygon[0]) && project_vertex(&triangle[1], u, &polygon[1]) &&
-          project_vertex(&triangle[2], u, &polygon[2]) &&
-          triangle_survives(&polygon[0], &polygon[1], &polygon[2], u, &extent)) {
-        pairs = write_setup_triangle(&polygon[0], &polygon[1], &polygon[2], &extent, primitive_begin + i, u,
-                                     &records[i]);
-      }
-    } else if (planes != CLR_CLIP_REJECTED) {
-      const int n = clipped_window_polygon(triangle, planes, u, polygon);
-      for (int k = 1; k + 1 < n; ++k) clipped += triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent);
+  } else if (codes.y & CLR_VERTEX_OUTSIDE_PLANES) {
+    /* All three vertices outside one plane: nothing of it is left. */
+  } else if (planes == 0) {
+    WindowVertex triangle[3];
+    TriangleExtent extent;
+    assemble_window_triangle(shaded, vertex_slots, triangle);
+    if (!(codes.x & CLR_VERTEX_NOT_PROJECTABLE) && triangle_survives(&triangle[0], &triangle[1], &triangle[2], u, &extent)) {
+      load_window_varyings(shaded, vertex_slots, triangle);
+      pairs = write_setup_triangle(&triangle[0], &triangle[1], &triangle[2], &extent, primitive_begin + i, u, &records[i]);
     }
+  } else {
+    ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
+    WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
+    TriangleExtent extent;
+    assemble_clip_triangle(shaded, vertex_slots, triangle);
+    const int n = clipped_window_polygon(triangle, planes, u, polygon);
+    for (int k = 1; k + 1 < n; ++k) clipped += triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent);
   }
   pair_counts[i] = pairs;
   clipped_counts[i] = clipped;
@@ -101,10 +106,11 @@ __kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap 
                             __global uint* pair_counts) {
   const uint i = get_global_id(0);
   if (i >= primitive_count || clipped_offsets[i] == clipped_offsets[i + 1]) return;
+  const uint3 vertex_slots = primitive_slots(primitive_begin + i, &slots, indices, u);
+  const uint planes = primitive_codes(shaded, vertex_slots).x & CLR_VERTEX_OUTSIDE_PLANES;
   ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
-  assemble_primitive(primitive_begin + i, &slots, indices, shaded, u, triangle);
-  const uint planes = triangle_clip_planes(triangle, vload2(0, u->guard_min), vload2(0, u->guard_max));
   WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
+  assemble_clip_triangle(shaded, vertex_slots, triangle);
   const int n = clipped_window_polygon(triangle, planes, u, polygon);
   uint out = clipped_offsets[i];
   uint pairs = 0;

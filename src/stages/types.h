@@ -221,8 +221,20 @@ typedef struct {
 } AttributeDesc;
 
 /* ---- Transformed vertices ------------------------------------------------------------------------
- * CLR_SHADED_VERTEX_FLOAT4S (generated per program) float4 per vertex slot: the clip-space
- * position, then the varyings as floats. */
+ * CLR_SHADED_VERTEX_FLOAT4S (generated per program) float4 per vertex slot:
+ *   [0]                     the clip-space position;
+ *   [CLR_SHADED_WINDOW]     the snapped window position (x, y, as int bits) and its residual (x, y);
+ *   [CLR_SHADED_WINDOW + 1] window depth, 1 / clip w, the clip codes (uint bits), unused;
+ *   [CLR_SHADED_VARYINGS..] the varyings as floats.
+ * The vertex stage projects and snaps each vertex once (vertex.cl), so that set-up does not do it
+ * again for every triangle that shares the vertex; only clipping goes back to the clip position. */
+#define CLR_SHADED_WINDOW 1
+#define CLR_SHADED_VARYINGS 3
+/* Clip codes: bit k (k < CLR_CLIP_PLANES) set when the position is outside clip plane k (clip.cl),
+ * and the two flags below. The window part means something only when the codes are 0. */
+#define CLR_VERTEX_OUTSIDE_PLANES ((1u << CLR_CLIP_PLANES) - 1u)
+#define CLR_VERTEX_NOT_FINITE (1u << CLR_CLIP_PLANES)           /* the position has an infinity or NaN */
+#define CLR_VERTEX_NOT_PROJECTABLE (1u << (CLR_CLIP_PLANES + 1)) /* inside every plane, but w = 0 */
 
 /* Where the vertex stage put the vertex of each stream position, for one chunk (see vertex.cl). */
 typedef struct {

@@ -4,7 +4,23 @@
  * Slots: when the whole vertex range is shaded once per draw, slot s holds vertex s. Otherwise
  * (the draw's transformed vertices would not fit the memory cap) each chunk shades its own stream
  * positions: slot s holds the element at stream position stream_begin + s, and for fans one extra
- * slot, main_count, holds the fan's centre (stream position 0). */
+ * slot, main_count, holds the fan's centre (stream position 0).
+ *
+ * Besides the program's outputs a slot keeps the vertex's clip codes and its window position
+ * (types.h): computed here once per vertex, not by set-up once per triangle using it. */
+
+/* The window part of a slot (CLR_SHADED_WINDOW, two float4s) for a clip-space position. */
+inline void store_window_part(float4 position, __constant const DrawUniforms* u, __global float4* out) {
+  uint codes = clip_outcode(position, vload2(0, u->guard_min), vload2(0, u->guard_max));
+  WindowVertex w = {0};
+  if (!all(isfinite(position))) {
+    codes |= CLR_VERTEX_NOT_FINITE;
+  } else if (!project_position(position, u, &w)) {
+    codes |= CLR_VERTEX_NOT_PROJECTABLE;
+  }
+  out[0] = (float4)(as_float2(w.fixed), w.residual);
+  out[1] = (float4)(w.z, w.inv_w, as_float(codes), 0.0f);
+}
 
 __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint stream_begin, uint main_count,
                            uint slot_count, __constant const DrawUniforms* u,
@@ -25,5 +41,6 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
   vertex(&v);
   __global float4* out = shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
   out[0] = v.position;
-  clr_store_varyings(&v.out, (__global float*)(out + 1));
+  store_window_part(v.position, u, out + CLR_SHADED_WINDOW);
+  clr_store_varyings(&v.out, (__global float*)(out + CLR_SHADED_VARYINGS));
 }
