@@ -70,6 +70,10 @@
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */
 #define CLR_MAX_CHUNK_PRIMITIVES (1u << 20) /* primitives per geometry chunk at most */
 #define CLR_OVERFLOW_DIVISOR 8               /* room for clipped triangles: 1/8 of a chunk's primitives */
+/* An indexed draw shades every vertex once when its transformed vertices take at most 1/2 of the
+ * cap; else each chunk shades its stream positions, which for a mesh runs the vertex program about
+ * six times per vertex (terrain-4m's vertex stage: 6 times slower at a quarter, measured). */
+#define CLR_SHADE_ALL_CAP_DIVISOR 2
 #define CLR_BUFFER_GROWTH_NUM 3              /* scratch buffers grow by 3/2 when too small */
 #define CLR_BUFFER_GROWTH_DEN 2
 

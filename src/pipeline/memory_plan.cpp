@@ -53,7 +53,7 @@ StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint3
 
 MemoryPlan plan_memory(const PlanInput& in) {
   MemoryPlan plan;
-  plan.shade_all_vertices = in.indexed && in.vertex_count * in.shaded_vertex_bytes <= in.memory_cap / 4;
+  plan.shade_all_vertices = in.indexed && in.vertex_count * in.shaded_vertex_bytes <= in.memory_cap / CLR_SHADE_ALL_CAP_DIVISOR;
   // Room for the triangles of one primitive at least, however it is clipped.
   const auto overflow_for = [](std::uint64_t chunk) {
     return std::max<std::uint64_t>(chunk / CLR_OVERFLOW_DIVISOR, CLR_MAX_CLIP_TRIANGLES);

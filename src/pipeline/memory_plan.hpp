@@ -17,13 +17,13 @@ struct PlanInput {
   int topology = 0;               // CLR_TOPOLOGY_*
   std::uint32_t primitive_count = 0;
   std::uint32_t tile_count = 0;
-  std::size_t shaded_vertex_bytes = 0;   // of the program: a clip position and its varyings
+  std::size_t shaded_vertex_bytes = 0;   // of the program: a clip position, its window part and varyings
   std::size_t setup_triangle_bytes = 0;  // of the program: a SetupTriangle with its varyings
 };
 
 struct MemoryPlan {
-  // Indexed draws whose transformed vertices fit in a quarter of the cap shade each vertex once per
-  // draw; others shade each chunk's stream positions.
+  // Indexed draws whose transformed vertices fit in a share of the cap (CLR_SHADE_ALL_CAP_DIVISOR)
+  // shade each vertex once per draw; others shade each chunk's stream positions.
   bool shade_all_vertices = false;
   std::uint32_t chunk_primitives = 0;   // primitives per geometry chunk
   std::uint32_t overflow_capacity = 0;  // triangles of a chunk's clipped primitives (more shorten it)

@@ -24,9 +24,11 @@ inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_m
   }
 }
 
-/* Bit k set: the position is outside plane k. */
-inline uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
+/* Bit k set: the position is outside plane k. Unrolled, so that each plane's distance is its own
+ * expression instead of a switch taken in a loop (this runs for every vertex). */
+CLR_INLINE uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
   uint code = 0;
+#pragma unroll
   for (int plane = 0; plane < CLR_CLIP_PLANES; ++plane) {
     if (clip_distance(p, plane, guard_min, guard_max) < 0.0f) code |= 1u << plane;
   }

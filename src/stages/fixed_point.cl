@@ -17,7 +17,7 @@ typedef struct {
 /* Projects and snaps a clip-space position into `out` (all but its varyings). Returns false when
  * it cannot be projected (w = 0: only a vertex at the origin of clip space survives clipping with
  * w = 0). */
-inline bool project_position(float4 position, __constant const DrawUniforms* u, WindowVertex* out) {
+CLR_INLINE bool project_position(float4 position, __constant const DrawUniforms* u, WindowVertex* out) {
   const float inv_w = 1.0f / position.w;
   const float x = position.x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
   const float y = position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];

@@ -10,9 +10,10 @@
 /* Window coordinates must be computed exactly as written (no fused multiply-add), so that the same
  * input snaps to the same fixed-point position on every device and in every kernel. */
 #pragma OPENCL FP_CONTRACT OFF
-/* For the small functions that run per fragment (fragment operations, texel conversions): inlined
- * whatever the compiler's cost model says, since a call per fragment and per operation costs more
- * than the operation and keeps the draw's state from being hoisted out of the pixel loops. */
+/* For the small functions that run per fragment (fragment operations, texel conversions) or per
+ * vertex (clip codes, projection): inlined whatever the compiler's cost model says, since a call per
+ * fragment and per operation costs more than the operation and keeps the draw's state from being
+ * hoisted out of the pixel loops. */
 #define CLR_INLINE __attribute__((always_inline)) inline
 typedef long clr_long;
 typedef int clr_int;

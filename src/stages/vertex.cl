@@ -10,7 +10,7 @@
  * (types.h): computed here once per vertex, not by set-up once per triangle using it. */
 
 /* The window part of a slot (CLR_SHADED_WINDOW, two float4s) for a clip-space position. */
-inline void store_window_part(float4 position, __constant const DrawUniforms* u, __global float4* out) {
+CLR_INLINE void store_window_part(float4 position, __constant const DrawUniforms* u, __global float4* out) {
   uint codes = clip_outcode(position, vload2(0, u->guard_min), vload2(0, u->guard_max));
   WindowVertex w = {0};
   if (!all(isfinite(position))) {
