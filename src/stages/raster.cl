@@ -370,11 +370,13 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   for (uint base = begin; base < end; base += CLR_RASTER_TRIANGLE_BATCH) {
     const uint n = min((uint)CLR_RASTER_TRIANGLE_BATCH, end - base);
     barrier(CLK_LOCAL_MEM_FENCE); /* everyone is done with the previous batch */
+    /* All the batch's records first, then their coverage: the records are scattered over the
+     * chunk, and loads with nothing in between wait for memory together, not one after another. */
     for (uint i = item; i < n; i += CLR_RASTER_GROUP) {
       const uint id = sorted_triangles[base + i];
       batch[i] = (id & CLR_OVERFLOW_TRIANGLE) ? overflow[id & ~CLR_OVERFLOW_TRIANGLE] : records[id];
-      coverage_mask(&batch[i], origin, masks[i]);
     }
+    for (uint i = item; i < n; i += CLR_RASTER_GROUP) coverage_mask(&batch[i], origin, masks[i]);
     barrier(CLK_LOCAL_MEM_FENCE);
 #if CLR_QUAD_SHADING
     /* One work-item per pixel: every one runs the program for each triangle that covers any pixel
