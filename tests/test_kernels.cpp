@@ -7,6 +7,7 @@
 #include "clr_limits.h"
 #include "parallel/radix_sort.hpp"
 #include "pipeline/draw_state.hpp"
+#include "program/generator.hpp"
 #include "program/interface.hpp"
 #include "support/test_support.hpp"
 
@@ -258,6 +259,43 @@ TEST_F(KernelTest, CentresOnLeftAndBottomEdgesBelongToTheTriangle) {
   cl::Buffer out = buffer(std::vector<cl_int>(6));
   run_single("test_edge_rule", in, cl_uint{6}, out);
   EXPECT_EQ(read<cl_int>(out, 6), (std::vector<cl_int>{1, 1, 0, 0, 0, 1}));
+}
+
+// ---- Record layouts -----------------------------------------------------------------------------------
+
+// The host sizes the vertex slots and set-up records it allocates with program::shaded_vertex_bytes
+// and program::setup_triangle_bytes; the kernels index them with the compiler's layout. Programs
+// with few and many varying floats must agree.
+TEST(RecordLayout, HostSizesMatchTheCompilersForEveryVaryingCount) {
+  const std::string few = "clr_varying(float, a)\nclr_output(float4, color)\n"
+                          "void vertex(clr_vertex* v) { v->out.a = 1.0f; }\n"
+                          "void fragment(clr_fragment* f) { f->out.color = (float4)(f->in.a); }\n";
+  const std::string many = "clr_varying(float4, a)\nclr_varying(float3, b)\nclr_varying_flat(int2, c)\n"
+                           "clr_output(float4, color)\n"
+                           "void vertex(clr_vertex* v) { v->out.a = 1.0f; v->out.b = 2.0f; v->out.c = 3; }\n"
+                           "void fragment(clr_fragment* f) { f->out.color = f->in.a; }\n";
+  const char* const sizes_kernel = R"CLC(
+__kernel void test_record_sizes(__global uint* out) {
+  out[0] = sizeof(SetupTriangle);
+  out[1] = CLR_SHADED_VERTEX_FLOAT4S * sizeof(float4);
+  out[2] = CLR_NUM_VARYINGS;
+}
+)CLC";
+  for (const std::string& source : {few, many}) {
+    const program::ParsedProgram parsed = program::parse_program(source, "layout.cl");
+    const cl::Program compiled = build_test_program(
+        "record layout", program::generate_stage_program(parsed, source, "layout.cl") + sizes_kernel);
+    ContextState& state = *shared_context().impl().state;
+    cl::Buffer out(state.context, CL_MEM_READ_WRITE, 3 * sizeof(cl_uint));
+    cl::Kernel kernel(compiled, "test_record_sizes");
+    kernel.setArg(0, out);
+    state.queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+    std::vector<cl_uint> sizes(3);
+    state.queue.get().enqueueReadBuffer(out, CL_TRUE, 0, 3 * sizeof(cl_uint), sizes.data());
+    SCOPED_TRACE(std::to_string(sizes[2]) + " varying floats");
+    EXPECT_EQ(sizes[0], program::setup_triangle_bytes(parsed));
+    EXPECT_EQ(sizes[1], program::shaded_vertex_bytes(parsed));
+  }
 }
 
 TEST(Rasterization, PixelCentresOnEdgesFollowTheLeftBottomRule) {
