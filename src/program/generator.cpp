@@ -138,7 +138,7 @@ typedef struct {
 
 /* Defined by the generated glue at the end of the program. */
 void clr_store_varyings(const clr_varyings* v, __global float* out);
-void clr_interpolate_varyings(const __local SetupTriangle* t, float3 pw, float norm, float3 l, clr_varyings* v);
+CLR_INLINE void clr_lane_varyings(const __local SetupTriangle* t, const clr_span_float* values, int lane, clr_varyings* v);
 #if CLR_PROGRAM_DEPTH_TEST
 bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_depth);
 #endif
@@ -202,9 +202,9 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
     }
   }
   out << "}\n\n"
-      << "/* pw: the vertices' screen-space weights divided by their w, norm: 1 / their sum; l: screen-space\n"
-      << " * weights. Flat varyings hold the provoking vertex's value in all three vertices. */\n"
-      << "void clr_interpolate_varyings(const __local SetupTriangle* t, float3 pw, float norm, float3 l, "
+      << "/* The varyings of lane `lane` of a span, whose interpolated floats are `values` (raster.cl). Flat\n"
+      << " * varyings hold the provoking vertex's value in all three vertices. */\n"
+      << "CLR_INLINE void clr_lane_varyings(const __local SetupTriangle* t, const clr_span_float* values, int lane, "
          "clr_varyings* v) {\n";
   // Each varying in one assignment, a vector literal for vectors: the program reads it whole, and a
   // vector written by one store is forwarded to that load, where one written a component at a time
@@ -219,10 +219,8 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
       if (v.interpolation == "flat") {
         out << (vector.scalar == "float" ? "" : "as_" + vector.scalar + "(") << "t->varyings[0][" << j << "]"
             << (vector.scalar == "float" ? "" : ")");
-      } else if (v.interpolation == "noperspective") {
-        out << "clr_weighted_varying(t, " << j << ", l)";
       } else {
-        out << "clr_weighted_varying(t, " << j << ", pw) * norm";
+        out << "CLR_SPAN_LANE(float, values[" << j << "], lane)";
       }
     }
     out << (vector.components > 1 ? ");\n" : ";\n");
