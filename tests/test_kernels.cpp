@@ -32,7 +32,15 @@ __kernel void test_clip(__global const float* in, float2 guard_min, float2 guard
     poly[i].position = vload4(0, in + 7 * i);
     for (int k = 0; k < 3; ++k) poly[i].varyings[k] = in[7 * i + 4 + k];
   }
-  const int n = clip_triangle(poly, guard_min, guard_max);
+  /* Set-up's decision from the vertices' clip codes (setup.cl): rejected when all are outside one
+   * plane, clipped against the planes any is outside, else kept as it is. */
+  uint any_outside = 0, all_outside = ~0u;
+  for (int i = 0; i < 3; ++i) {
+    const uint code = clip_outcode(poly[i].position, guard_min, guard_max);
+    any_outside |= code;
+    all_outside &= code;
+  }
+  const int n = all_outside ? 0 : any_outside ? clip_polygon(poly, 3, any_outside, guard_min, guard_max) : 3;
   for (int i = 0; i < n; ++i) {
     vstore4(poly[i].position, 0, out + 7 * i);
     for (int k = 0; k < 3; ++k) out[7 * i + 4 + k] = poly[i].varyings[k];

@@ -78,22 +78,3 @@ int clip_polygon(ClipVertex* poly, int count, uint planes, float2 guard_min, flo
   }
   return count;
 }
-
-/* The planes a triangle's edges cross: 0 when it lies inside all of them (almost always: it is
- * then used bit for bit, unclipped), CLR_CLIP_REJECTED when all three vertices are outside one
- * plane, else the mask of planes to clip against. */
-#define CLR_CLIP_REJECTED 0xffffffffu
-inline uint triangle_clip_planes(const ClipVertex* tri, float2 guard_min, float2 guard_max) {
-  const uint c0 = clip_outcode(tri[0].position, guard_min, guard_max);
-  const uint c1 = clip_outcode(tri[1].position, guard_min, guard_max);
-  const uint c2 = clip_outcode(tri[2].position, guard_min, guard_max);
-  return (c0 & c1 & c2) ? CLR_CLIP_REJECTED : (c0 | c1 | c2);
-}
-
-/* Clips a triangle, poly[0..3), in place; returns the vertex count of what is left. */
-int clip_triangle(ClipVertex* poly, float2 guard_min, float2 guard_max) {
-  const uint planes = triangle_clip_planes(poly, guard_min, guard_max);
-  if (planes == 0) return 3;
-  if (planes == CLR_CLIP_REJECTED) return 0;
-  return clip_polygon(poly, 3, planes, guard_min, guard_max);
-}
