@@ -274,7 +274,7 @@ TEST_F(KernelTest, CentresOnLeftAndBottomEdgesBelongToTheTriangle) {
 // The host sizes the vertex slots and set-up records it allocates with program::shaded_vertex_bytes
 // and program::setup_triangle_bytes; the kernels index them with the compiler's layout. Programs
 // with few and many varying floats must agree.
-TEST(RecordLayout, HostSizesMatchTheCompilersForEveryVaryingCount) {
+TEST_F(KernelTest, HostRecordSizesMatchTheCompilersForEveryVaryingCount) {
   const std::string few = "clr_varying(float, a)\nclr_output(float4, color)\n"
                           "void vertex(clr_vertex* v) { v->out.a = 1.0f; }\n"
                           "void fragment(clr_fragment* f) { f->out.color = (float4)(f->in.a); }\n";
@@ -291,15 +291,11 @@ __kernel void test_record_sizes(__global uint* out) {
 )CLC";
   for (const std::string& source : {few, many}) {
     const program::ParsedProgram parsed = program::parse_program(source, "layout.cl");
-    const cl::Program compiled = build_test_program(
-        "record layout", program::generate_stage_program(parsed, source, "layout.cl") + sizes_kernel);
-    ContextState& state = *shared_context().impl().state;
-    cl::Buffer out(state.context, CL_MEM_READ_WRITE, 3 * sizeof(cl_uint));
-    cl::Kernel kernel(compiled, "test_record_sizes");
-    kernel.setArg(0, out);
-    state.queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
-    std::vector<cl_uint> sizes(3);
-    state.queue.get().enqueueReadBuffer(out, CL_TRUE, 0, 3 * sizeof(cl_uint), sizes.data());
+    program_ = build_test_program("record layout",
+                                  program::generate_stage_program(parsed, source, "layout.cl") + sizes_kernel);
+    cl::Buffer out = buffer(std::vector<cl_uint>(3));
+    run_single("test_record_sizes", out);
+    const std::vector<cl_uint> sizes = read<cl_uint>(out, 3);
     SCOPED_TRACE(std::to_string(sizes[2]) + " varying floats");
     EXPECT_EQ(sizes[0], program::setup_triangle_bytes(parsed));
     EXPECT_EQ(sizes[1], program::shaded_vertex_bytes(parsed));

@@ -306,7 +306,9 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
 #endif
   const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, depth, stencil);
   const uint passed = clr_span_bits_of_lanes(written);
-  if (passed != 0) interpolate_span(t, w, &s); /* again, the same, after a program's depth test */
+  if (passed != 0) {
+    if (!program_depth_test) interpolate_span(t, w, &s); /* a program's depth test had it done first */
+  }
   /* Only the lanes that passed, in order: a span of a small triangle has one or two. */
   for (uint lanes = passed; lanes != 0; lanes &= lanes - 1) {
     const int lane = 31 - clz(lanes & (0 - lanes));
