@@ -232,10 +232,21 @@ CLR_INLINE clr_span_float blend_factor(int factor, int channel, clr_span_color s
   }
 }
 
+/* floor(x) for |x| < 2^31, and x rounded to the nearest integer (ties to even) for 0 <= x < 2^22:
+ * the 8-bit blend's roundings, on values that are small. PoCL's floor and rint are library code of a
+ * dozen vector instructions each, which made them most of a blended span; these are two to four.
+ * Adding 2^23 leaves x no fraction bits, so that addition rounds (to nearest even, the default mode)
+ * and the subtraction is exact (OpenCL C compiles without reassociation unless told otherwise). */
+CLR_INLINE clr_span_float floor_small(clr_span_float x) {
+  const clr_span_float truncated = CLR_SPAN_CONVERT(float, CLR_SPAN_CONVERT(int, x));
+  return truncated - select((clr_span_float)(0.0f), (clr_span_float)(1.0f), truncated > x);
+}
+CLR_INLINE clr_span_float round_small(clr_span_float x) { return (x + 8388608.0f) - 8388608.0f; }
+
 /* llvmpipe's product of two 8-bit values, (ab + (ab >> 8) + 128) >> 8, on integers held in floats. */
 CLR_INLINE clr_span_float mul_unorm8(clr_span_float a, clr_span_float b) {
   const clr_span_float ab = a * b;
-  return floor((ab + floor(ab / 256.0f) + 128.0f) / 256.0f);
+  return floor_small((ab + floor_small(ab / 256.0f) + 128.0f) / 256.0f);
 }
 
 /* Whether f and g are one another's complement (ZERO and ONE, SRC_COLOR and ONE_MINUS_SRC_COLOR, ...),
@@ -270,7 +281,7 @@ CLR_INLINE bool regrouped_blend(int equation, int source_factor_id, int destinat
     const clr_span_float f = source_plain ? source_factor : destination_factor;
     const clr_span_float from = source_plain ? d : s, to = source_plain ? s : d;
     if (unorm8) {
-      *out = from + floor((f + floor(f / 128.0f)) * (to - from) / 256.0f + 0.5f);
+      *out = from + floor_small((f + floor_small(f / 128.0f)) * (to - from) / 256.0f + 0.5f);
     } else if (equation == CLR_BLEND_ADD) {
       *out = fma(f, to - from, from);
     } else {
@@ -300,9 +311,14 @@ CLR_INLINE clr_span_float blend_equation(int equation, int source_factor_id, int
                                  source_factor, destination_factor, unorm8, &regrouped)) {
     return regrouped;
   }
-  const clr_span_float source_term = unorm8 ? mul_unorm8(source, source_factor) : source * source_factor;
-  const clr_span_float destination_term =
-      unorm8 ? mul_unorm8(destination, destination_factor) : destination * destination_factor;
+  /* A factor of ONE leaves its term as it is: x * 1 is x in float, NaN and infinities included, and
+   * llvmpipe's 8-bit product by 255 is x for every byte x (255 x + (x - 1) + 128 is 256 x + 127). */
+  const clr_span_float source_term = source_factor_id == CLR_FACTOR_ONE ? source
+                                     : unorm8                           ? mul_unorm8(source, source_factor)
+                                                                        : source * source_factor;
+  const clr_span_float destination_term = destination_factor_id == CLR_FACTOR_ONE ? destination
+                                          : unorm8 ? mul_unorm8(destination, destination_factor)
+                                                   : destination * destination_factor;
   switch (equation) {
     case CLR_BLEND_SUBTRACT: return source_term - destination_term;
     case CLR_BLEND_REVERSE_SUBTRACT: return destination_term - source_term;
@@ -364,9 +380,17 @@ CLR_INLINE void clr_blend(BlendUniforms b, clr_span_color source, clr_span_color
   blend_colors(b, source, destination, constant_color, false, channels, blended);
 }
 
+inline bool is_constant_factor(int factor) {
+  return factor >= CLR_FACTOR_CONSTANT_COLOR && factor <= CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA;
+}
+inline bool uses_constant_color(BlendUniforms b) {
+  return is_constant_factor(b.src_rgb) || is_constant_factor(b.dst_rgb) || is_constant_factor(b.src_alpha) ||
+         is_constant_factor(b.dst_alpha);
+}
+
 /* Colours in [0, 1] as 8-bit values, rounded to nearest even as llvmpipe converts (NaN becomes 0). */
 CLR_INLINE void to_unorm8(clr_span_color* color) {
-  for (int c = 0; c < 4; ++c) color->c[c] = rint(clamp(color->c[c], 0.0f, 1.0f) * 255.0f);
+  for (int c = 0; c < 4; ++c) color->c[c] = round_small(clamp(color->c[c], 0.0f, 1.0f) * 255.0f);
 }
 
 /* The blended colour of a linear 8-bit unsigned normalized attachment, as llvmpipe blends it: a
@@ -377,7 +401,7 @@ CLR_INLINE void clr_blend_unorm8(BlendUniforms b, clr_span_color source, clr_spa
                                  clr_span_color constant_color, int channels, clr_span_color* blended) {
   to_unorm8(&source);
   to_unorm8(&destination);
-  to_unorm8(&constant_color);
+  if (uses_constant_color(b)) to_unorm8(&constant_color);
   blend_colors(b, source, destination, constant_color, true, channels, blended);
   for (int c = 0; c < 4; ++c) blended->c[c] = clamp(blended->c[c], 0.0f, 255.0f) / 255.0f;
 }
