@@ -107,6 +107,40 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
   else clr_store_texel_float(format, data, pixel, as_float4(value));
 }
 
+/* Whether the pixel (x, y) is inside the draw's clip rectangle (scissor and framebuffer), and whether
+ * the whole span of pixels from (x, y) is. */
+inline bool writable(int x, int y, __constant const DrawUniforms* u) {
+  return x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3];
+}
+inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) {
+  return writable(x, y, u) && writable(x + CLR_SPAN_PIXELS - 1, y, u);
+}
+
+/* RGBA8, the usual attachment, moves between the framebuffer and the tile a span at a time: one
+ * vector of the span's 32-bit pixels, whose byte c is channel c on little-endian devices (all that
+ * OpenCL runs on in practice; others take the pixel-by-pixel way). The conversions are
+ * clr_decode_texel's and clr_float_to_unorm8's, so the results are the same bits. */
+#ifdef __ENDIAN_LITTLE__
+#define CLR_PACKED_RGBA8 1
+#else
+#define CLR_PACKED_RGBA8 0
+#endif
+CLR_INLINE void load_rgba8_span(__global const uint* pixels, __local uint* tile_channels) {
+  const clr_span_uint packed = CLR_SPAN_LOAD(pixels);
+  for (int c = 0; c < 4; ++c) {
+    const clr_span_float value = CLR_SPAN_CONVERT(float, (packed >> (8u * c)) & 0xffu) / 255.0f;
+    CLR_SPAN_STORE(CLR_SPAN_AS(uint, value), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
+  }
+}
+CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, __global uint* pixels) {
+  clr_span_uint packed = 0u;
+  for (int c = 0; c < 4; ++c) {
+    const clr_span_float value = CLR_SPAN_AS(float, CLR_SPAN_LOAD(&tile_channels[CLR_TILE_WORD(0, c, 0)]));
+    packed |= CLR_SPAN_CONVERT(uint, round_small(fmin(fmax(value, 0.0f), 1.0f) * 255.0f)) << (8u * c);
+  }
+  CLR_SPAN_STORE(packed, pixels);
+}
+
 /* A colour attachment's span in the tile, and the span written back where `written` is true. */
 CLR_INLINE void load_tile_span(__local const uint* tile, uint target, uint first_pixel, clr_span_bits* bits) {
   for (int c = 0; c < 4; ++c) bits->c[c] = CLR_SPAN_LOAD(&tile[CLR_TILE_WORD(target, c, first_pixel)]);
@@ -364,23 +398,38 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_NUM_OUTPUTS > 0 /* a program without outputs (a depth-only pass) has no colour targets */
   __global uchar* const targets[CLR_NUM_OUTPUTS] = CLR_TARGETS;
 #endif
-  for (uint lane = item; lane < CLR_TILE_PIXELS; lane += CLR_RASTER_GROUP) {
-    const int x = origin.x + (int)(lane % CLR_TILE_SIZE);
-    const int y = origin.y + (int)(lane / CLR_TILE_SIZE);
-    const bool writable = x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3];
+  for (uint first = item * CLR_SPAN_PIXELS; first < CLR_TILE_PIXELS; first += CLR_RASTER_GROUP * CLR_SPAN_PIXELS) {
+    const int x = origin.x + (int)(first % CLR_TILE_SIZE);
+    const int y = origin.y + (int)(first / CLR_TILE_SIZE);
     const uint pixel = (uint)y * framebuffer_width + (uint)x;
+    const bool whole = whole_span_writable(x, y, u);
 #if CLR_NUM_OUTPUTS > 0
     for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
       const int format = u->target_format[k];
-      const uint4 value = writable && format >= 0 ? load_attachment_pixel(format, targets[k], pixel) : (uint4)(0);
-      tile_color[CLR_TILE_WORD(k, 0, lane)] = value.x;
-      tile_color[CLR_TILE_WORD(k, 1, lane)] = value.y;
-      tile_color[CLR_TILE_WORD(k, 2, lane)] = value.z;
-      tile_color[CLR_TILE_WORD(k, 3, lane)] = value.w;
+      if (whole && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
+        load_rgba8_span((__global const uint*)targets[k] + pixel, &tile_color[CLR_TILE_WORD(k, 0, first)]);
+        continue;
+      }
+      for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+        const uint4 value = writable(x + i, y, u) && format >= 0 ? load_attachment_pixel(format, targets[k], pixel + i)
+                                                                  : (uint4)(0);
+        tile_color[CLR_TILE_WORD(k, 0, first + i)] = value.x;
+        tile_color[CLR_TILE_WORD(k, 1, first + i)] = value.y;
+        tile_color[CLR_TILE_WORD(k, 2, first + i)] = value.z;
+        tile_color[CLR_TILE_WORD(k, 3, first + i)] = value.w;
+      }
     }
 #endif
-    tile_depth[lane] = writable && u->depth_test ? depth[pixel] : 0.0f;
-    tile_stencil[lane] = writable && u->stencil_test ? stencil[pixel] : 0;
+    if (whole) {
+      CLR_SPAN_STORE(u->depth_test ? CLR_SPAN_LOAD(&depth[pixel]) : (clr_span_float)(0.0f), &tile_depth[first]);
+      CLR_SPAN_STORE(u->stencil_test ? CLR_SPAN_LOAD(&stencil[pixel]) : (CLR_SPAN(uchar))(0), &tile_stencil[first]);
+      continue;
+    }
+    for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+      const bool inside = writable(x + i, y, u);
+      tile_depth[first + i] = inside && u->depth_test ? depth[pixel + i] : 0.0f;
+      tile_stencil[first + i] = inside && u->stencil_test ? stencil[pixel + i] : 0;
+    }
   }
 
   clr_fragment f = {0};
@@ -442,19 +491,34 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #endif
   }
   barrier(CLK_LOCAL_MEM_FENCE); /* every pixel's last fragment is in the tile */
-  for (uint lane = item; lane < CLR_TILE_PIXELS; lane += CLR_RASTER_GROUP) {
-    const int x = origin.x + (int)(lane % CLR_TILE_SIZE);
-    const int y = origin.y + (int)(lane / CLR_TILE_SIZE);
-    if (x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3]) {
-      const uint pixel = (uint)y * framebuffer_width + (uint)x;
+  for (uint first = item * CLR_SPAN_PIXELS; first < CLR_TILE_PIXELS; first += CLR_RASTER_GROUP * CLR_SPAN_PIXELS) {
+    const int x = origin.x + (int)(first % CLR_TILE_SIZE);
+    const int y = origin.y + (int)(first / CLR_TILE_SIZE);
+    const uint pixel = (uint)y * framebuffer_width + (uint)x;
+    const bool whole = whole_span_writable(x, y, u);
 #if CLR_NUM_OUTPUTS > 0
-      for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
-        const int format = u->target_format[k];
-        if (format >= 0) store_attachment_pixel(format, targets[k], pixel, clr_tile_pixel(tile_color, k, lane));
+    for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
+      const int format = u->target_format[k];
+      if (whole && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
+        store_rgba8_span(&tile_color[CLR_TILE_WORD(k, 0, first)], (__global uint*)targets[k] + pixel);
+        continue;
       }
+      for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+        if (writable(x + i, y, u) && format >= 0) {
+          store_attachment_pixel(format, targets[k], pixel + i, clr_tile_pixel(tile_color, k, first + i));
+        }
+      }
+    }
 #endif
-      if (u->depth_test && u->depth_write) depth[pixel] = tile_depth[lane];
-      if (u->stencil_test) stencil[pixel] = tile_stencil[lane];
+    if (whole) {
+      if (u->depth_test && u->depth_write) CLR_SPAN_STORE(CLR_SPAN_LOAD(&tile_depth[first]), &depth[pixel]);
+      if (u->stencil_test) CLR_SPAN_STORE(CLR_SPAN_LOAD(&tile_stencil[first]), &stencil[pixel]);
+      continue;
+    }
+    for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+      if (!writable(x + i, y, u)) continue;
+      if (u->depth_test && u->depth_write) depth[pixel + i] = tile_depth[first + i];
+      if (u->stencil_test) stencil[pixel + i] = tile_stencil[first + i];
     }
   }
   /* The pixels outside the clip rectangle meet the others here, not at the kernel's end, which the
