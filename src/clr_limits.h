@@ -46,8 +46,18 @@
 #ifdef CLR_SCAN_GROUP_SIZE
 #define CLR_SCAN_ITEMS (CLR_SCAN_BLOCK / CLR_SCAN_GROUP_SIZE) /* elements per work-item */
 #endif
-#define CLR_RADIX_BITS 5          /* bits of the tile key sorted per radix pass: 1080p's 32,400 tiles in 3 */
+/* Bits of the tile key sorted per radix pass, for blocks sorted by `items` work-items each: where one
+ * work-item sorts a block (CPUs), its counts per digit are its own and 8 bits sort 1080p's 32,400
+ * tiles in 2 passes; where many share a block (GPUs), their counts per digit and work-item must fit
+ * the 32 KiB of local memory small GPUs have, and 5 bits take 3 passes. */
+#define CLR_RADIX_CPU_BITS 8
+#define CLR_RADIX_GPU_BITS 5
+#define CLR_RADIX_BITS_FOR(items) ((items) == CLR_SCAN_CPU_ITEMS ? CLR_RADIX_CPU_BITS : CLR_RADIX_GPU_BITS)
+#define CLR_RADIX_MAX_BUCKETS (1 << CLR_RADIX_CPU_BITS) /* the larger digit: histogram scratch is sized for it */
+#ifdef CLR_SCAN_GROUP_SIZE
+#define CLR_RADIX_BITS CLR_RADIX_BITS_FOR(CLR_SCAN_GROUP_SIZE)
 #define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
+#endif
 #define CLR_CLEAR_TEXELS_PER_ITEM 256 /* texels one work-item of a clear writes */
 
 /* ---- Rasterization ----------------------------------------------------------------------------- */

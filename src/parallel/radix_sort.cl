@@ -22,7 +22,11 @@ void radix_histogram(__global const uint* keys, uint count, uint shift, __global
   const uint begin = get_group_id(0) * CLR_SCAN_BLOCK;
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     const uint index = begin + i * CLR_SCAN_GROUP_SIZE + lid;
+#if CLR_SCAN_GROUP_SIZE == 1 /* nobody to share the counts with: a locked increment costs many plain ones */
+    if (index < count) ++buckets[radix_digit(keys[index], shift)];
+#else
     if (index < count) atomic_inc(&buckets[radix_digit(keys[index], shift)]);
+#endif
   }
   barrier(CLK_LOCAL_MEM_FENCE);
   for (uint d = lid; d < CLR_RADIX_BUCKETS; d += CLR_SCAN_GROUP_SIZE) {

@@ -13,10 +13,11 @@ RadixSort::RadixSort(const cl::Program& program, Scan& scan)
     : scan_(scan),
       histogram_(program, "radix_histogram"),
       scatter_(program, "radix_scatter"),
-      group_size_(cl_host::compiled_group_size(histogram_)) {}
+      group_size_(cl_host::compiled_group_size(histogram_)),
+      digit_bits_(CLR_RADIX_BITS_FOR(group_size_)) {}
 
 std::size_t RadixSort::histogram_bytes(std::size_t count) {
-  return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * CLR_RADIX_BUCKETS * sizeof(cl_uint);
+  return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * CLR_RADIX_MAX_BUCKETS * sizeof(cl_uint);
 }
 
 std::size_t RadixSort::scan_scratch_bytes(std::size_t count) {
@@ -29,11 +30,11 @@ int RadixSort::sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl
   const auto n = static_cast<cl_uint>(count);
   const auto blocks = static_cast<cl_uint>(divide_round_up(count, CLR_SCAN_BLOCK));
   int source = 0;
-  for (int shift = 0; shift < key_bits && count > 1; shift += CLR_RADIX_BITS) {
+  for (int shift = 0; shift < key_bits && count > 1; shift += digit_bits_) {
     const auto shift_arg = static_cast<cl_uint>(shift);
     cl_host::set_args(histogram_, keys[source], n, shift_arg, histogram, blocks);
     cl_host::enqueue_blocks(queue, histogram_, count, CLR_SCAN_BLOCK, group_size_);
-    scan_.exclusive(queue, histogram, std::size_t{blocks} * CLR_RADIX_BUCKETS, block_sums, counters);
+    scan_.exclusive(queue, histogram, std::size_t{blocks} << digit_bits_, block_sums, counters);
     cl_host::set_args(scatter_, keys[source], values[source], n, shift_arg, histogram, blocks, keys[1 - source],
                       values[1 - source]);
     cl_host::enqueue_blocks(queue, scatter_, count, CLR_SCAN_BLOCK, group_size_);

@@ -9,7 +9,8 @@ class RadixSort {
  public:
   RadixSort(const cl::Program& program, Scan& scan);
 
-  // Bytes of histogram scratch for sorting `count` pairs, and of block-sum scratch for scanning it.
+  // Bytes of histogram scratch for sorting `count` pairs with either digit size, and of block-sum
+  // scratch for scanning it.
   static std::size_t histogram_bytes(std::size_t count);
   static std::size_t scan_scratch_bytes(std::size_t count);
 
@@ -23,6 +24,7 @@ class RadixSort {
   cl::Kernel histogram_;
   cl::Kernel scatter_;
   std::size_t group_size_;  // work-items per block (CLR_SCAN_GROUP_SIZE)
+  int digit_bits_;          // bits sorted per pass (CLR_RADIX_BITS in the kernels)
 };
 
 }  // namespace clraster::parallel
