@@ -66,7 +66,7 @@ __kernel void test_blend(__global const BlendUniforms* states, __global const fl
   const clr_span_color d = CLR_SPAN_COLOR_SPLAT(destinations[c]);
   const clr_span_color k = CLR_SPAN_COLOR_SPLAT(constants[c]);
   clr_span_color result;
-  if (kind == 2) clr_blend_unorm8(b, s, d, k, 4, &result);
+  if (kind == 2) clr_blend_unorm8(b, s, d, k, 4, false, &result);
   else clr_blend(b, s, d, k, kind == 1, 4, &result);
   blended[i] = clr_span_color_lane(result, 0);
 }

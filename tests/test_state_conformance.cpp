@@ -430,6 +430,34 @@ INSTANTIATE_TEST_SUITE_P(StateConformance, BlendFormatTest,
                          ::testing::Values(Format::RGBA8, Format::RGBA16F, Format::RGBA32F),
                          [](const auto& info) { return name_of(info.param); });
 
+// The tile holds a blended RGBA8 attachment as bytes and moves it to and from the framebuffer a span
+// at a time, except for spans that the framebuffer's edge or the scissor rectangle cuts, which move
+// pixel by pixel: alpha blending over a framebuffer whose sides are no multiple of a span, then
+// additive blending through a scissor rectangle that cuts spans on every side, match GL.
+TEST(StateConformance, BlendingThroughCutSpansMatchesGl) {
+  constexpr int kWidth = 37, kHeight = 21;
+  DualFramebuffer target(kWidth, kHeight, {Format::RGBA8});
+  target.clear({0.2f, 0.6f, 0.4f, 0.5f}, 1.0f);
+  DrawState state;
+  state.depth_test = false;
+  state.blend[0] = BlendState{true,
+                              BlendEquation::Add,
+                              BlendEquation::Add,
+                              BlendFactor::SrcAlpha,
+                              BlendFactor::OneMinusSrcAlpha,
+                              BlendFactor::One,
+                              BlendFactor::OneMinusSrcAlpha};
+  const ColoredMesh everywhere = window_quads({{{0, 0, kWidth, kHeight}, {0.9f, 0.1f, 0.3f, 0.6f}}}, kWidth, kHeight);
+  target.draw(everywhere.draw(flat_color_program(), state));
+  state.blend[0] = kAdditiveBlend;
+  state.scissor_test = true;
+  state.scissor = {3, 2, 27, 15};
+  const ColoredMesh across = window_quads({{{1, 1, 30, 18}, {0.25f, 0.5f, 0.125f, 0.25f}}}, kWidth, kHeight);
+  target.draw(across.draw(flat_color_program(), state));
+  EXPECT_TRUE(target.matches());
+  EXPECT_EQ(distinct_texels(target.color(0).gl.read(), 4), 2u);  // blended everywhere, and added to within the scissor
+}
+
 // ---- Depth ------------------------------------------------------------------------------------------------
 
 constexpr CompareFunc kCompareFuncs[] = {CompareFunc::Never,   CompareFunc::Less,     CompareFunc::Equal,

@@ -396,14 +396,18 @@ CLR_INLINE void to_unorm8(clr_span_color* color) {
 /* The blended colour of a linear 8-bit unsigned normalized attachment, as llvmpipe blends it: a
  * multiple of 1/255 in [0, 1] (so any conversion that rounds to nearest gives the byte).
  * destination: the stored colour, with the channels the format lacks as GL reads them (green and
- * blue 0, alpha 1). */
+ * blue 0, alpha 1). in_bytes: the destination comes, and the result goes, as the byte values
+ * themselves (0 to 255, in floats), as the rasterizer's tile holds a blended RGBA8 attachment. */
 CLR_INLINE void clr_blend_unorm8(BlendUniforms b, clr_span_color source, clr_span_color destination,
-                                 clr_span_color constant_color, int channels, clr_span_color* blended) {
+                                 clr_span_color constant_color, int channels, bool in_bytes, clr_span_color* blended) {
   to_unorm8(&source);
-  to_unorm8(&destination);
+  if (!in_bytes) to_unorm8(&destination);
   if (uses_constant_color(b)) to_unorm8(&constant_color);
   blend_colors(b, source, destination, constant_color, true, channels, blended);
-  for (int c = 0; c < 4; ++c) blended->c[c] = clamp(blended->c[c], 0.0f, 255.0f) / 255.0f;
+  for (int c = 0; c < 4; ++c) {
+    blended->c[c] = clamp(blended->c[c], 0.0f, 255.0f);
+    if (!in_bytes) blended->c[c] /= 255.0f;
+  }
 }
 
 /* ---- Colour write mask (GL 4.6 17.4.2) -------------------------------------------------------------- */

@@ -19,7 +19,8 @@
  * Tile storage: a colour attachment's pixel is four 32-bit words, kept channel by channel so that
  * a span of one channel is one vector (CLR_TILE_WORD), holding the decoded value exactly as the
  * attachment stores it (float bits for normalized and float formats, already quantized to the
- * format where the draw reads the tile back; int or uint for integer ones). Programs that take
+ * format where the draw reads the tile back; int or uint for integer ones), except that an RGBA8
+ * attachment the draw blends is held as its bytes (tile_holds_bytes). Programs that take
  * derivatives are shaded in 2x2 quads, one work-item per pixel: every work-item runs the program for
  * every triangle that covers any pixel of the tile, the uncovered ones as helpers whose results are
  * thrown away (prelude.cl exchanges the values). */
@@ -116,6 +117,17 @@ inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) 
   return writable(x, y, u) && writable(x + CLR_SPAN_PIXELS - 1, y, u);
 }
 
+/* Whether the tile holds colour attachment `target` as its bytes (0 to 255, in floats) rather than
+ * decoded: an RGBA8 attachment the draw blends with OpenGL's equations, which llvmpipe computes on
+ * bytes (fragment_ops.cl), so that the blend of each span needs no conversion of what it reads and no
+ * division of what it writes. Framebuffer fetch and the program's blend function read decoded
+ * colours, so their draws keep them. */
+inline bool tile_holds_bytes(__constant const DrawUniforms* u, uint target) {
+  __constant const BlendUniforms* b = &u->blend[target];
+  return !CLR_READS_FRAMEBUFFER && u->target_format[target] == CLR_FORMAT_RGBA8 && b->enabled &&
+         b->rgb_equation != CLR_BLEND_PROGRAM && b->alpha_equation != CLR_BLEND_PROGRAM;
+}
+
 /* RGBA8, the usual attachment, moves between the framebuffer and the tile a span at a time: one
  * vector of the span's 32-bit pixels, whose byte c is channel c on little-endian devices (all that
  * OpenCL runs on in practice; others take the pixel-by-pixel way). The conversions are
@@ -125,18 +137,19 @@ inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) 
 #else
 #define CLR_PACKED_RGBA8 0
 #endif
-CLR_INLINE void load_rgba8_span(__global const uint* pixels, __local uint* tile_channels) {
+CLR_INLINE void load_rgba8_span(__global const uint* pixels, bool bytes, __local uint* tile_channels) {
   const clr_span_uint packed = CLR_SPAN_LOAD(pixels);
   for (int c = 0; c < 4; ++c) {
-    const clr_span_float value = CLR_SPAN_CONVERT(float, (packed >> (8u * c)) & 0xffu) / 255.0f;
-    CLR_SPAN_STORE(CLR_SPAN_AS(uint, value), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
+    const clr_span_float byte = CLR_SPAN_CONVERT(float, (packed >> (8u * c)) & 0xffu);
+    CLR_SPAN_STORE(CLR_SPAN_AS(uint, bytes ? byte : byte / 255.0f), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
   }
 }
-CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, __global uint* pixels) {
+CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, bool bytes, __global uint* pixels) {
   clr_span_uint packed = 0u;
   for (int c = 0; c < 4; ++c) {
     const clr_span_float value = CLR_SPAN_AS(float, CLR_SPAN_LOAD(&tile_channels[CLR_TILE_WORD(0, c, 0)]));
-    packed |= CLR_SPAN_CONVERT(uint, round_small(fmin(fmax(value, 0.0f), 1.0f) * 255.0f)) << (8u * c);
+    const clr_span_float byte = bytes ? value : round_small(fmin(fmax(value, 0.0f), 1.0f) * 255.0f);
+    packed |= CLR_SPAN_CONVERT(uint, byte) << (8u * c);
   }
   CLR_SPAN_STORE(packed, pixels);
 }
@@ -213,7 +226,9 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_co
     /* 8-bit linear attachments blend in 8-bit fixed point, as llvmpipe does (fragment_ops.cl). */
     const int channels = clr_texel_layout_of(format).channels;
     clr_span_color fixed;
-    if (format <= CLR_FORMAT_RGBA8) clr_blend_unorm8(b, source, destination, constant_color, channels, &fixed);
+    if (format <= CLR_FORMAT_RGBA8) {
+      clr_blend_unorm8(b, source, destination, constant_color, channels, tile_holds_bytes(u, target), &fixed);
+    }
     else clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels, &fixed);
     for (int c = 0; c < 4; ++c) result.c[c] = (c < 3 ? program_rgb : program_alpha) ? programmed.c[c] : fixed.c[c];
     quantize = quantize || program_rgb || program_alpha || format > CLR_FORMAT_RGBA8;
@@ -407,12 +422,14 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
       const int format = u->target_format[k];
       if (whole && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
-        load_rgba8_span((__global const uint*)targets[k] + pixel, &tile_color[CLR_TILE_WORD(k, 0, first)]);
+        load_rgba8_span((__global const uint*)targets[k] + pixel, tile_holds_bytes(u, k),
+                        &tile_color[CLR_TILE_WORD(k, 0, first)]);
         continue;
       }
       for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
-        const uint4 value = writable(x + i, y, u) && format >= 0 ? load_attachment_pixel(format, targets[k], pixel + i)
-                                                                  : (uint4)(0);
+        uint4 value = writable(x + i, y, u) && format >= 0 ? load_attachment_pixel(format, targets[k], pixel + i)
+                                                            : (uint4)(0);
+        if (tile_holds_bytes(u, k)) value = as_uint4(rint(as_float4(value) * 255.0f)); /* c / 255 back to c */
         tile_color[CLR_TILE_WORD(k, 0, first + i)] = value.x;
         tile_color[CLR_TILE_WORD(k, 1, first + i)] = value.y;
         tile_color[CLR_TILE_WORD(k, 2, first + i)] = value.z;
@@ -500,12 +517,14 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
       const int format = u->target_format[k];
       if (whole && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
-        store_rgba8_span(&tile_color[CLR_TILE_WORD(k, 0, first)], (__global uint*)targets[k] + pixel);
+        store_rgba8_span(&tile_color[CLR_TILE_WORD(k, 0, first)], tile_holds_bytes(u, k), (__global uint*)targets[k] + pixel);
         continue;
       }
       for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
         if (writable(x + i, y, u) && format >= 0) {
-          store_attachment_pixel(format, targets[k], pixel + i, clr_tile_pixel(tile_color, k, first + i));
+          uint4 value = clr_tile_pixel(tile_color, k, first + i);
+          if (tile_holds_bytes(u, k)) value = as_uint4(as_float4(value) / 255.0f); /* stored as c again */
+          store_attachment_pixel(format, targets[k], pixel + i, value);
         }
       }
     }
