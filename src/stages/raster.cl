@@ -355,6 +355,8 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
 #endif
   const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, depth, stencil);
   const uint passed = clr_span_bits_of_lanes(written);
+  /* Two ifs, not one &&: program_depth_test is a constant in most programs, and clang warns about
+   * && with a constant operand on stderr, which the examples require to be empty. */
   if (passed != 0) {
     if (!program_depth_test) interpolate_span(t, w, &s); /* a program's depth test had it done first */
   }
