@@ -236,8 +236,8 @@ TEST_F(KernelTest, WindowCoordinatesSnapToOneTwoHundredFiftySixthOfAPixelAroundP
   DrawState state;
   pipeline::RenderTarget target;
   target.width = target.height = 256;
-  const std::string builtin = cl_sources::text("program/builtin.cl");
-  DrawUniforms u = pipeline::make_uniforms(state, target, program::parse_program(builtin, "<builtin>"));  // NDC x -> (x + 1) * 128
+  const std::string builtin = cl_sources::text("program/builtin/normal.cl");
+  DrawUniforms u = pipeline::make_uniforms(state, target, program::parse_program(builtin, "normal.cl"));  // NDC x -> (x + 1) * 128
   cl::Buffer uniforms = buffer(std::vector<DrawUniforms>{u});
   // Window x = 10.5 (a pixel centre) -> fixed 10 * 256; x = 10.5 + 1/256 -> 2561; x = 0 -> -128;
   // halfway between two 1/256 steps rounds to even; w = 0 cannot be projected.

@@ -74,9 +74,14 @@ pipeline::Pipeline& ContextState::get_pipeline() {
   return *pipeline;
 }
 
-const Program& ContextState::builtin_program() {
+const Program& ContextState::builtin_program(Shading shading) {
+  static constexpr std::array<const char*, kShadingCount> kSources = {
+      "program/builtin/normal.cl", "program/builtin/lambert.cl", "program/builtin/depth.cl",
+      "program/builtin/constant.cl"};
+  std::unique_ptr<Program>& builtin = builtins.at(static_cast<std::size_t>(shading));
   if (!builtin) {
-    std::unique_ptr<Program::Impl> impl = compile_program(shared_from_this(), cl_sources::text("program/builtin.cl"), "<builtin>");
+    const char* const source = kSources[static_cast<std::size_t>(shading)];
+    std::unique_ptr<Program::Impl> impl = compile_program(shared_from_this(), cl_sources::text(source), source);
     // This state owns its built-in program, so the program must not own this state back (the two
     // would keep each other alive, and every context that drew with it leaked): it keeps a pointer
     // that owns nothing, which is all draws compare it with.

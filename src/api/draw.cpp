@@ -29,8 +29,7 @@ AttributeFormat attribute_format(AttributeType type) {
   return {scalars[index / 4], index % 4 + 1};
 }
 
-// The built-in program's uniforms, from the state's shading inputs.
-Bindings builtin_bindings(const Program& program, const DrawState& s) {
+void check_shading(const DrawState& s) {
   const int shading = static_cast<int>(s.shading);
   if (shading < 0 || shading > static_cast<int>(Shading::Constant)) {
     throw InvalidArgument("shading has the invalid value " + std::to_string(shading));
@@ -41,18 +40,27 @@ Bindings builtin_bindings(const Program& program, const DrawState& s) {
     throw InvalidArgument("depth shading range [" + std::to_string(s.depth_shading_range[0]) + ", " +
                           std::to_string(s.depth_shading_range[1]) + "] must be finite with near < far");
   }
-  const std::array<float, 9> normals = pipeline::normal_matrix(s.model_view);
-  Mat4 normal_matrix{};
-  for (int column = 0; column < 3; ++column) {
-    for (int row = 0; row < 3; ++row) normal_matrix[column * 4 + row] = normals[column * 3 + row];
-  }
+}
+
+// The uniforms of the built-in program of s.shading (program/builtin/), from the state's shading
+// inputs.
+Bindings builtin_bindings(const Program& program, const DrawState& s) {
   Bindings b(program);
-  b.set("mvp", pipeline::model_view_projection(s))
-      .set("model_view", s.model_view)
-      .set("normal_matrix", normal_matrix)
-      .set("base_color", s.base_color)
-      .set("depth_range", s.depth_shading_range)
-      .set("shading", std::int32_t{shading});
+  b.set("mvp", pipeline::model_view_projection(s));
+  switch (s.shading) {
+    case Shading::Normal: break;
+    case Shading::Lambert: {
+      const std::array<float, 9> normals = pipeline::normal_matrix(s.model_view);
+      Mat4 normal_matrix{};
+      for (int column = 0; column < 3; ++column) {
+        for (int row = 0; row < 3; ++row) normal_matrix[column * 4 + row] = normals[column * 3 + row];
+      }
+      b.set("normal_matrix", normal_matrix).set("base_color", s.base_color);
+      break;
+    }
+    case Shading::Depth: b.set("model_view", s.model_view).set("depth_range", s.depth_shading_range); break;
+    case Shading::Constant: b.set("base_color", s.base_color); break;
+  }
   return b;
 }
 
@@ -150,7 +158,8 @@ void resolve_bindings(const Bindings::Impl& bindings, const Program::Impl& progr
 DrawStats Framebuffer::draw(const DrawCall& call) {
   ContextState& state = *impl_->state;
   return translate_cl_errors([&] {
-    const Program& program = call.program != nullptr ? *call.program : state.builtin_program();
+    if (call.program == nullptr) check_shading(call.state);
+    const Program& program = call.program != nullptr ? *call.program : state.builtin_program(call.state.shading);
     Program::Impl& compiled = program.impl();
     check_same_context(state, compiled.state, "program " + compiled.file_name);
     std::optional<Bindings> builtin;

@@ -9,10 +9,13 @@
 #include "program/interface.hpp"
 #include "stages/types.h"
 
+#include <array>
 #include <memory>
 #include <optional>
 
 namespace clraster {
+
+inline constexpr std::size_t kShadingCount = static_cast<std::size_t>(Shading::Constant) + 1;
 
 // Shared by the Context and every resource made from it, so a resource that outlives its Context
 // still holds a valid OpenCL context and queue.
@@ -23,13 +26,14 @@ struct ContextState : std::enable_shared_from_this<ContextState> {
   cl_host::Queue queue;
   cl_host::ProgramCache programs;
   std::unique_ptr<pipeline::Pipeline> pipeline;  // built by the first draw
-  std::unique_ptr<Program> builtin;              // the built-in program, compiled by its first use
+  // The built-in program of each Shading, compiled by its first use.
+  std::array<std::unique_ptr<Program>, kShadingCount> builtins;
 
   ContextState(const ContextOptions& options, cl_host::Device device);
   // The context-wide kernels: scans, sorts, index validation, textures.
   const cl::Program& core_program();
   pipeline::Pipeline& get_pipeline();
-  const Program& builtin_program();
+  const Program& builtin_program(Shading shading);
   // Build options every program of this context gets.
   std::string build_options() const;
   bool cpu_shapes() const;         // the work-group shapes of a CPU device (clr_limits.h)

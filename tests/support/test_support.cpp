@@ -69,8 +69,8 @@ struct ClrasterMesh {
 }  // namespace
 
 std::string builtin_stage_program() {
-  const std::string source = cl_sources::text("program/builtin.cl");
-  return program::generate_stage_program(program::parse_program(source, "<builtin>"), source, "<builtin>");
+  const std::string source = cl_sources::text("program/builtin/normal.cl");
+  return program::generate_stage_program(program::parse_program(source, "normal.cl"), source, "normal.cl");
 }
 
 cl::Program build_test_program(const std::string& name, const std::string& source) {

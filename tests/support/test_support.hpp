@@ -25,8 +25,8 @@ Context& shared_context();
 // more context, shared too, with the GPU shapes whatever the device (ContextOptions::work_group_shape).
 Context& shared_context(WorkGroupShape shape);
 
-// The generated stage program of the built-in program: what kernel unit tests append their test
-// kernels to, so they call the stages' real functions.
+// The generated stage program of the built-in normal-shading program: what kernel unit tests
+// append their test kernels to, so they call the stages' real functions.
 std::string builtin_stage_program();
 
 // `source` built for the shared context's device with the options the pipeline's own programs get

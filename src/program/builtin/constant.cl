@@ -1,0 +1,12 @@
+/* constant.cl: the built-in program of Shading::Constant: every fragment the base colour (with an
+ * additive blend and no depth test, an overdraw counter). No varyings: nothing is interpolated.
+ * The pipeline binds its uniforms from DrawState (api/draw.cpp). */
+
+clr_attribute(float3, position)
+clr_uniform(float16, mvp) /* projection * model_view */
+clr_uniform(float4, base_color)
+clr_output(float4, color)
+
+void vertex(clr_vertex* v) { v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f)); }
+
+void fragment(clr_fragment* f) { f->out.color = f->uniforms->base_color; }
