@@ -4,6 +4,7 @@
 #include "support/dual_render.hpp"
 
 #include "io/camera.hpp"
+#include "pipeline/draw_state.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -376,6 +377,23 @@ TEST_P(BlendTableTest, EqualRgbFactorsUnderEveryAlphaEquationMatchGl) {
     }
   }
   expect_blends_match(format, cases);
+}
+
+// The blend states the rasterizer compiles with their state as constants on RGBA8 (types.h), each
+// the same for rgb and alpha, the way an application sets them with glBlendFunc: every source over
+// every destination, exactly as GL, and each taken as common, so that this is the code that ran.
+TEST(StateConformance, CommonBlendsMatchGl) {
+  std::vector<BlendCase> cases;
+#define CLR_COMMON_BLEND_CASE(index, equation, source_factor, destination_factor)                            \
+  cases.push_back(blend_case(BlendEquation(equation), factor(source_factor), factor(destination_factor),     \
+                             BlendEquation(equation), factor(source_factor), factor(destination_factor)));   \
+  EXPECT_EQ(pipeline::common_blend(BlendUniforms{1, equation, equation, source_factor, destination_factor,     \
+                                                 source_factor, destination_factor, 15, CLR_NOT_COMMON_BLEND}, \
+                                   CLR_FORMAT_RGBA8),                                                          \
+            index);
+  CLR_COMMON_BLENDS(CLR_COMMON_BLEND_CASE)
+#undef CLR_COMMON_BLEND_CASE
+  expect_blends_match(Format::RGBA8, cases);
 }
 
 INSTANTIATE_TEST_SUITE_P(StateConformance, BlendTableTest,

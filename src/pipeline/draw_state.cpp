@@ -76,10 +76,25 @@ void set_fragment_operations(const DrawState& s, const RenderTarget& target, con
                             "uint target, float4 source, float4 destination)");
     }
     u.target_format[k] = k < static_cast<int>(target.formats.size()) ? target.formats[static_cast<std::size_t>(k)] : -1;
+    out.common = common_blend(out, u.target_format[k]);
   }
 }
 
 }  // namespace
+
+int common_blend(const BlendUniforms& b, int format) {
+  if (!b.enabled || format != CLR_FORMAT_RGBA8 || b.rgb_equation != b.alpha_equation || b.src_rgb != b.src_alpha ||
+      b.dst_rgb != b.dst_alpha) {
+    return CLR_NOT_COMMON_BLEND;
+  }
+#define CLR_MATCH_COMMON_BLEND(index, equation, source_factor, destination_factor)                     \
+  if (b.rgb_equation == (equation) && b.src_rgb == (source_factor) && b.dst_rgb == (destination_factor)) { \
+    return index;                                                                                        \
+  }
+  CLR_COMMON_BLENDS(CLR_MATCH_COMMON_BLEND)
+#undef CLR_MATCH_COMMON_BLEND
+  return CLR_NOT_COMMON_BLEND;
+}
 
 Mat4 model_view_projection(const DrawState& state) {
   Mat4 product{};

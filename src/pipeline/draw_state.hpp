@@ -22,6 +22,10 @@ std::array<float, 9> normal_matrix(const Mat4& model_view);
 // program cannot serve (a Program depth function or blend equation it does not define).
 DrawUniforms make_uniforms(const DrawState& state, const RenderTarget& target, const program::ParsedProgram& program);
 
+// The index in CLR_COMMON_BLENDS (types.h) of blend state `b` on an attachment of format `format`
+// (CLR_FORMAT_*), or CLR_NOT_COMMON_BLEND: the blends the rasterizer runs with their state compiled in.
+int common_blend(const BlendUniforms& b, int format);
+
 // The pixels a draw may write: framebuffer, viewport and scissor intersected (may be empty).
 bool writable_rect_empty(const DrawUniforms& uniforms);
 

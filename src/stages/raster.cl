@@ -122,10 +122,12 @@ inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) 
  * bytes (fragment_ops.cl), so that the blend of each span needs no conversion of what it reads and no
  * division of what it writes. Framebuffer fetch and the program's blend function read decoded
  * colours, so their draws keep them. */
+CLR_INLINE bool holds_bytes(int format, BlendUniforms b) {
+  return !CLR_READS_FRAMEBUFFER && format == CLR_FORMAT_RGBA8 && b.enabled && b.rgb_equation != CLR_BLEND_PROGRAM &&
+         b.alpha_equation != CLR_BLEND_PROGRAM;
+}
 inline bool tile_holds_bytes(__constant const DrawUniforms* u, uint target) {
-  __constant const BlendUniforms* b = &u->blend[target];
-  return !CLR_READS_FRAMEBUFFER && u->target_format[target] == CLR_FORMAT_RGBA8 && b->enabled &&
-         b->rgb_equation != CLR_BLEND_PROGRAM && b->alpha_equation != CLR_BLEND_PROGRAM;
+  return holds_bytes(u->target_format[target], u->blend[target]);
 }
 
 /* RGBA8, the usual attachment, moves between the framebuffer and the tile a span at a time: one
@@ -193,17 +195,16 @@ CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_s
   return passed;
 }
 
-/* Output `target` of a span of fragments into a normalized or float attachment, where `written`:
- * blending (OpenGL's equations, or the program's blend function for channels whose equation is
- * CLR_BLEND_PROGRAM), the write mask, and quantization to the attachment's format. */
-CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_color source, clr_span_int written,
-                                       __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {
-  const int format = u->target_format[target];
-  if (format < 0) return;
+/* Output `target` of a span of fragments into a normalized or float attachment of format `format`
+ * with blend state b, where `written`: blending (OpenGL's equations, or the program's blend function
+ * for channels whose equation is CLR_BLEND_PROGRAM), the write mask, and quantization to the
+ * attachment's format. */
+CLR_INLINE void merge_float_output(clr_fragment* f, uint target, int format, BlendUniforms b, clr_span_color source,
+                                   clr_span_int written, __local uint* tile, uint first_pixel,
+                                   __constant const DrawUniforms* u) {
   clr_span_bits stored;
   load_tile_span(tile, target, first_pixel, &stored);
   const clr_span_color destination = CLR_SPAN_BITS_COLOR(stored);
-  BlendUniforms b = u->blend[target];
   clr_span_color result = source;
   /* The tile keeps what a store then a load of the attachment would give only where the draw reads
    * it back (blending, framebuffer fetch): otherwise the conversion when the tile is written out at
@@ -227,7 +228,7 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_co
     const int channels = clr_texel_layout_of(format).channels;
     clr_span_color fixed;
     if (format <= CLR_FORMAT_RGBA8) {
-      clr_blend_unorm8(b, source, destination, constant_color, channels, tile_holds_bytes(u, target), &fixed);
+      clr_blend_unorm8(b, source, destination, constant_color, channels, holds_bytes(format, b), &fixed);
     }
     else clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels, &fixed);
     for (int c = 0; c < 4; ++c) result.c[c] = (c < 3 ? program_rgb : program_alpha) ? programmed.c[c] : fixed.c[c];
@@ -242,6 +243,27 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_co
     }
   }
   store_tile_span(tile, target, first_pixel, stored, CLR_SPAN_COLOR_BITS(result), written);
+}
+
+/* merge_float_output with the attachment's format and blend state; a common blend (types.h) on
+ * RGBA8 with the state as constants, so that the compiler leaves only its arithmetic. */
+CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_color source, clr_span_int written,
+                                       __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {
+  const int format = u->target_format[target];
+  if (format < 0) return;
+  const BlendUniforms b = u->blend[target];
+  switch (b.common) {
+#define CLR_COMMON_BLEND_MERGE(index, equation, source_factor, destination_factor)                               \
+  case index: {                                                                                                 \
+    const BlendUniforms common = {1, equation, equation, source_factor, destination_factor, source_factor,        \
+                                  destination_factor, b.write_mask, index};                                     \
+    merge_float_output(f, target, CLR_FORMAT_RGBA8, common, source, written, tile, first_pixel, u);            \
+    return;                                                                                                     \
+  }
+    CLR_COMMON_BLENDS(CLR_COMMON_BLEND_MERGE)
+#undef CLR_COMMON_BLEND_MERGE
+    default: merge_float_output(f, target, format, b, source, written, tile, first_pixel, u);
+  }
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */

@@ -167,6 +167,16 @@ typedef struct {
 } TextureDesc;
 
 /* ---- Per-fragment operations ---------------------------------------------------------------------- */
+/* Blend states common enough for code of their own on RGBA8 attachments: the rasterizer runs the
+ * same blend as for any other state, compiled with these as constants, where the draw's state is
+ * one of them (BlendUniforms::common). X(index, equation, source factor, destination factor), the
+ * same for rgb and alpha. */
+#define CLR_COMMON_BLENDS(X)                                                        \
+  X(0, CLR_BLEND_ADD, CLR_FACTOR_ONE, CLR_FACTOR_ONE)                 /* additive */ \
+  X(1, CLR_BLEND_ADD, CLR_FACTOR_SRC_ALPHA, CLR_FACTOR_ONE_MINUS_SRC_ALPHA) /* alpha */ \
+  X(2, CLR_BLEND_ADD, CLR_FACTOR_ONE, CLR_FACTOR_ONE_MINUS_SRC_ALPHA) /* premultiplied alpha */
+#define CLR_NOT_COMMON_BLEND (-1)
+
 typedef struct {
   clr_int enabled;
   clr_int rgb_equation;
@@ -176,6 +186,7 @@ typedef struct {
   clr_int src_alpha;
   clr_int dst_alpha;
   clr_uint write_mask; /* bit c: channel c (r, g, b, a) is written */
+  clr_int common;      /* the index in CLR_COMMON_BLENDS of an enabled blend on RGBA8, or CLR_NOT_COMMON_BLEND */
 } BlendUniforms;
 
 typedef struct {
