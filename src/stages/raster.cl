@@ -56,6 +56,7 @@ inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local u
   const int2 hi = min((int2)((int)(t->pixel_max & 0xffffu), (int)(t->pixel_max >> 16)), origin + (CLR_TILE_SIZE - 1));
   if (lo.x > hi.x || lo.y > hi.y) return;
   long c[3];
+#pragma unroll
   for (int k = 0; k < 3; ++k) c[k] = t->edge_c[k] - ((t->flags >> k) & 1u ? 0 : 1);
   for (int chunk = (lo.x - origin.x) / 8; chunk <= (hi.x - origin.x) / 8; ++chunk) {
     const int8 xs = (int8)(origin.x + chunk * 8) + (int8)(0, 1, 2, 3, 4, 5, 6, 7);
@@ -141,6 +142,7 @@ inline bool tile_holds_bytes(__constant const DrawUniforms* u, uint target) {
 #endif
 CLR_INLINE void load_rgba8_span(__global const uint* pixels, bool bytes, __local uint* tile_channels) {
   const clr_span_uint packed = CLR_SPAN_LOAD(pixels);
+#pragma unroll
   for (int c = 0; c < 4; ++c) {
     const clr_span_float byte = CLR_SPAN_CONVERT(float, (packed >> (8u * c)) & 0xffu);
     CLR_SPAN_STORE(CLR_SPAN_AS(uint, bytes ? byte : byte / 255.0f), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
@@ -148,6 +150,7 @@ CLR_INLINE void load_rgba8_span(__global const uint* pixels, bool bytes, __local
 }
 CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, bool bytes, __global uint* pixels) {
   clr_span_uint packed = 0u;
+#pragma unroll
   for (int c = 0; c < 4; ++c) {
     const clr_span_float value = CLR_SPAN_AS(float, CLR_SPAN_LOAD(&tile_channels[CLR_TILE_WORD(0, c, 0)]));
     const clr_span_float byte = bytes ? value : round_small(fmin(fmax(value, 0.0f), 1.0f) * 255.0f);
@@ -158,10 +161,12 @@ CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, bool bytes, 
 
 /* A colour attachment's span in the tile, and the span written back where `written` is true. */
 CLR_INLINE void load_tile_span(__local const uint* tile, uint target, uint first_pixel, clr_span_bits* bits) {
+#pragma unroll
   for (int c = 0; c < 4; ++c) bits->c[c] = CLR_SPAN_LOAD(&tile[CLR_TILE_WORD(target, c, first_pixel)]);
 }
 CLR_INLINE void store_tile_span(__local uint* tile, uint target, uint first_pixel, clr_span_bits stored,
                                 clr_span_bits value, clr_span_int written) {
+#pragma unroll
   for (int c = 0; c < 4; ++c) {
     CLR_SPAN_STORE(select(stored.c[c], value.c[c], written), &tile[CLR_TILE_WORD(target, c, first_pixel)]);
   }
@@ -231,6 +236,7 @@ CLR_INLINE void merge_float_output(clr_fragment* f, uint target, int format, Ble
       clr_blend_unorm8(b, source, destination, constant_color, channels, holds_bytes(format, b), &fixed);
     }
     else clr_blend(b, source, destination, constant_color, is_normalized_format(format), channels, &fixed);
+#pragma unroll
     for (int c = 0; c < 4; ++c) result.c[c] = (c < 3 ? program_rgb : program_alpha) ? programmed.c[c] : fixed.c[c];
     quantize = quantize || program_rgb || program_alpha || format > CLR_FORMAT_RGBA8;
   }
@@ -291,6 +297,7 @@ CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, int x, int
   const long Y = (long)y << CLR_SUBPIXEL_BITS;
   const clr_span_float unsnapped_x = CLR_SPAN_CONVERT(float, xs << CLR_SUBPIXEL_BITS);
   const float unsnapped_y = (float)(y << CLR_SUBPIXEL_BITS);
+#pragma unroll
   for (int k = 0; k < 3; ++k) {
     /* Edge k's function E at the pixel centres (exact, in 64 bits), then for the vertices before
      * snapping: barycentrics of the snapped triangle are off by up to 1/512 pixel over the distance
@@ -319,9 +326,11 @@ typedef struct {
 
 CLR_INLINE void interpolate_span(const __local SetupTriangle* t, span_weights w, span_interpolants* s) {
   /* Perspective-correct: interpolate value / w and 1 / w linearly, then divide. */
+#pragma unroll
   for (int k = 0; k < 3; ++k) s->pw[k] = w.l[k] * t->inv_w[k];
   s->inv_w = s->pw[0] + s->pw[1] + s->pw[2];
   s->norm = 1.0f / s->inv_w;
+#pragma unroll
   for (int j = 0; j < CLR_NUM_VARYINGS; ++j) {
     const int mode = clr_varying_interpolation[j];
     const clr_span_float* weights = mode == CLR_INTERPOLATE_NOPERSPECTIVE ? w.l : s->pw;
