@@ -34,6 +34,7 @@ CLR_INLINE bool project_position(float4 position, __constant const DrawUniforms*
 /* project_position with the vertex's varyings. */
 inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
   if (!project_position(v->position, u, out)) return false;
+#pragma unroll
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) out->varyings[k] = v->varyings[k];
   return true;
 }

@@ -49,6 +49,7 @@ inline uint2 primitive_codes(__global const float4* shaded, uint3 slots) {
 /* Flat varyings take the provoking vertex's value: the last one (GL_LAST_VERTEX_CONVENTION). */
 inline void take_provoking_flat_varyings(float* v0, float* v1, const float* v2) {
 #if CLR_HAS_FLAT_VARYINGS
+#pragma unroll
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) {
     if (clr_varying_interpolation[k] == CLR_INTERPOLATE_FLAT) v0[k] = v1[k] = v2[k];
   }
@@ -57,12 +58,14 @@ inline void take_provoking_flat_varyings(float* v0, float* v1, const float* v2) 
 
 inline void load_varyings(__global const float4* slot, float* varyings) {
   __global const float* in = (__global const float*)(slot + CLR_SHADED_VARYINGS);
+#pragma unroll
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) varyings[k] = in[k];
 }
 
 /* The three clip-space vertices of a primitive, for clipping. */
 void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVertex* triangle) {
   const uint s[3] = {slots.x, slots.y, slots.z};
+#pragma unroll
   for (int i = 0; i < 3; ++i) {
     __global const float4* in = shaded_slot(shaded, s[i]);
     triangle[i].position = in[0];
@@ -75,6 +78,7 @@ void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVert
  * their varyings wait for load_window_varyings, which culled triangles never need. */
 void assemble_window_triangle(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
   const uint s[3] = {slots.x, slots.y, slots.z};
+#pragma unroll
   for (int i = 0; i < 3; ++i) {
     __global const float4* in = shaded_slot(shaded, s[i]) + CLR_SHADED_WINDOW;
     const float4 position = in[0];
