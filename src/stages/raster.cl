@@ -58,6 +58,23 @@ inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local u
   long c[3];
 #pragma unroll
   for (int k = 0; k < 3; ++k) c[k] = t->edge_c[k] - ((t->flags >> k) & 1u ? 0 : 1);
+  /* An edge function is linear, so over the rectangle [lo, hi] its extremes are at the corners:
+   * where every corner centre is outside one edge, nothing is covered, and where the rectangle is
+   * the whole tile and every corner is inside every edge, all of it is. The triangles of large
+   * primitives are mostly one or the other in each tile they are binned to, and skip the rows; small
+   * ones, with few rows, go straight to them. */
+  if (hi.y - lo.y >= CLR_TILE_SIZE / 2) {
+    const long4 X = convert_long4((int4)(lo.x, hi.x, lo.x, hi.x)) << CLR_SUBPIXEL_BITS;
+    const long4 Y = convert_long4((int4)(lo.y, lo.y, hi.y, hi.y)) << CLR_SUBPIXEL_BITS;
+    const long4 e0 = (long)t->edge_a[0] * X + (long)t->edge_b[0] * Y + c[0];
+    const long4 e1 = (long)t->edge_a[1] * X + (long)t->edge_b[1] * Y + c[1];
+    const long4 e2 = (long)t->edge_a[2] * X + (long)t->edge_b[2] * Y + c[2];
+    if (all(e0 < (long4)(0)) || all(e1 < (long4)(0)) || all(e2 < (long4)(0))) return;
+    if (all(lo == origin) && all(hi == origin + (CLR_TILE_SIZE - 1)) && all((e0 | e1 | e2) >= (long4)(0))) {
+      for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) mask[w] = ~0ul;
+      return;
+    }
+  }
   for (int chunk = (lo.x - origin.x) / 8; chunk <= (hi.x - origin.x) / 8; ++chunk) {
     const int8 xs = (int8)(origin.x + chunk * 8) + (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     const long8 X = convert_long8(xs) << CLR_SUBPIXEL_BITS;
