@@ -376,6 +376,17 @@ CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, 
   clr_lane_varyings(t, s->varyings, lane, &f->in);
 }
 
+#if CLR_EARLY_TESTS
+/* Runs the program for lane `lane` of a span whose tests passed there, and gathers its outputs. */
+CLR_INLINE void shade_lane(clr_fragment* f, const __local SetupTriangle* t, span_weights w, const span_interpolants* s,
+                           int lane, int x, int y, uint first_pixel, bool program_depth_test,
+                           clr_span_outputs* outputs) {
+  if (!program_depth_test) start_fragment(f, t, w, s, lane, x, y, first_pixel, false);
+  fragment(f);
+  clr_gather_outputs(f, lane, outputs);
+}
+#endif
+
 /* The fragments of triangle t in the span of the tile from its pixel first_pixel, at (x, y), where
  * `covered` (writable pixels the triangle covers). In quad shading (spans of one pixel), an
  * uncovered pixel runs the program as a helper. */
@@ -408,12 +419,17 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
   if (passed != 0) {
     if (!program_depth_test) interpolate_span(t, w, &s); /* a program's depth test had it done first */
   }
-  /* Only the lanes that passed, in order: a span of a small triangle has one or two. */
-  for (uint lanes = passed; lanes != 0; lanes &= lanes - 1) {
-    const int lane = 31 - clz(lanes & (0 - lanes));
-    if (!program_depth_test) start_fragment(f, t, w, &s, lane, x, y, first_pixel, false);
-    fragment(f);
-    clr_gather_outputs(f, lane, &outputs);
+  /* Only the lanes that passed, in order: a span of a small triangle has one or two. A span that
+   * passed whole takes a loop over all its lanes instead, which the compiler unrolls for small
+   * programs, folding what does not vary between lanes (a constant colour is one vector). */
+  if (passed == (uint)CLR_SPAN_BITS) {
+    for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
+      shade_lane(f, t, w, &s, lane, x, y, first_pixel, program_depth_test, &outputs);
+    }
+  } else {
+    for (uint lanes = passed; lanes != 0; lanes &= lanes - 1) {
+      shade_lane(f, t, w, &s, 31 - clz(lanes & (0 - lanes)), x, y, first_pixel, program_depth_test, &outputs);
+    }
   }
 #else
   clr_span_int kept = covered;
