@@ -420,9 +420,12 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
     if (!program_depth_test) interpolate_span(t, w, &s); /* a program's depth test had it done first */
   }
   /* Only the lanes that passed, in order: a span of a small triangle has one or two. A span that
-   * passed whole takes a loop over all its lanes instead, which the compiler unrolls for small
-   * programs, folding what does not vary between lanes (a constant colour is one vector). */
+   * passed whole takes the lanes in an unrolled loop instead: no search for the next lane, and
+   * each lane's outputs go to a constant place in the span, where what does not vary between lanes
+   * folds (a constant colour is one vector). Unrolled, not left to the compiler, which kept the
+   * loop (fill-16 raster 48 -> 38 ms; a program's first build ~5% longer). */
   if (passed == (uint)CLR_SPAN_BITS) {
+#pragma unroll
     for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
       shade_lane(f, t, w, &s, lane, x, y, first_pixel, program_depth_test, &outputs);
     }
