@@ -13,8 +13,9 @@
  * of terrain-4m 63 -> 48 ms). */
 
 /* Writes the record of a triangle that survived culling (which measured `extent`); returns the
- * number of tiles its bounding box touches. */
-inline uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
+ * number of tiles its bounding box touches. Always inlined: PoCL's compiler kept it a call, with the
+ * vertices passed through the stack (set-up of terrain-4m 38 -> 34 ms inlined). */
+CLR_INLINE uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
                                  const TriangleExtent* extent, uint primitive_id, __constant const DrawUniforms* u,
                                  __global SetupTriangle* out) {
   long area = extent->double_area;
