@@ -16,8 +16,8 @@
  * number of tiles its bounding box touches. Always inlined: PoCL's compiler kept it a call, with the
  * vertices passed through the stack (set-up of terrain-4m 38 -> 34 ms inlined). */
 CLR_INLINE uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
-                                 const TriangleExtent* extent, uint primitive_id, __constant const DrawUniforms* u,
-                                 __global SetupTriangle* out) {
+                                     const TriangleExtent* extent, uint primitive_id,
+                                     __constant const DrawUniforms* u, __global SetupTriangle* out) {
   long area = extent->double_area;
   const bool front = (area > 0) == (u->front_face_ccw != 0);
   /* Rasterization wants counter-clockwise vertices: swap the last two of a clockwise triangle. */
