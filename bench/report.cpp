@@ -77,8 +77,8 @@ void print_table_foot(std::ostream& out, const std::vector<SceneResult>& results
   if (!results.empty()) {
     out << "clraster on " << results.front().device << "; OpenGL: " << results.front().gl_renderer << '\n';
   }
-  out << "stages: the median device time of each stage (OpenCL profiling events); other: the colour clear, "
-         "index checks and transfers\n"
+  out << "stages: the median device time of each stage (OpenCL profiling events); other: index checks and "
+         "transfers (the frame's clear is written by the raster stage)\n"
          "first frame: a new Context's, from its construction (programs from the disk cache) to the finished frame\n";
 }
 

@@ -75,6 +75,11 @@
  * measured too: large triangles' fragments (fill-16) about 1.4 times slower, small triangles' no
  * faster beyond the noise. */
 #define CLR_CPU_SPAN_PIXELS 8
+/* Framebuffers of at least this many pixels get the tiles' write-back as non-temporal stores. A
+ * pass that writes its attachments' pending clears writes lines that nothing else reads, and a
+ * plain store would first fetch each one from memory; a framebuffer this large is not in the caches
+ * when the next draw loads it anyway. Smaller ones stay cached between draws. */
+#define CLR_STREAMING_STORE_PIXELS (1 << 20)
 
 /* ---- Memory budget -----------------------------------------------------------------------------
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */

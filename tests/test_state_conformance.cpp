@@ -1041,6 +1041,64 @@ TEST_P(RenderToTextureTest, SecondPassReadsWhatTheFirstRendered) {
 INSTANTIATE_TEST_SUITE_P(StateConformance, RenderToTextureTest, ::testing::Values(Format::RGBA8, Format::RGBA16F),
                          [](const auto& info) { return name_of(info.param); });
 
+// ---- Clears -----------------------------------------------------------------------------------------------
+
+// A clear is written by the next draw into the attachment, with its tiles (resources/pending_clear.hpp), or
+// before anything else reads the texels. Each step is compared with OpenGL on every attachment: pixels
+// outside the draw's scissor and in partial tiles, attachments the draw neither tests nor writes (depth
+// and stencil with their tests off, colour attachments beyond the program's outputs), a clear replaced
+// before any draw, a draw that rasterizes nothing, and a cleared texture sampled before any draw wrote it.
+TEST(StateConformance, ClearsReachEveryPixelWhateverTheNextDrawWrites) {
+  constexpr int kWidth = 45, kHeight = 29;  // partial tiles at the right and the top
+  const std::vector<Format> formats = {Format::RGBA8, Format::R32I, Format::RGBA16F};
+  DualFramebuffer target(kWidth, kHeight, formats), cleared(kWidth, kHeight, formats);  // cleared: never drawn into
+  for (DualFramebuffer* framebuffer : {&target, &cleared}) {
+    framebuffer->clear({0.2f, 0.4f, 0.6f, 0.8f}, 0.75f, 5);
+    framebuffer->clear_color_int(1, {-9, 4, 0, 0});
+  }
+  // z = -0.2: window depth 0.4.
+  const ColoredMesh quad = window_quads({{{4, 3, 30, 20}, {0.9f, 0.1f, 0.5f, 1}, -0.2f}}, kWidth, kHeight);
+  DrawState scissored;
+  scissored.depth_test = false;
+  scissored.scissor_test = true;
+  scissored.scissor = {10, 6, 12, 9};
+  target.draw(quad.draw(flat_color_program(1), scissored));  // one output for three attachments
+  EXPECT_TRUE(target.color_matches(0));
+  EXPECT_TRUE(target.depth_matches());
+  EXPECT_TRUE(target.stencil_matches());
+  EXPECT_EQ(distinct_texels(target.color(0).gl.read(), 4), 2u);  // the clear colour and the quad's
+  // Attachments without an output: OpenGL leaves what the draw writes there undefined (llvmpipe writes
+  // zeros), clraster leaves them alone, so they hold the clear, as written without any draw.
+  EXPECT_TRUE(cleared.matches());
+  for (int k : {1, 2}) EXPECT_EQ(target.color(k).clraster.read(), cleared.color(k).clraster.read()) << "attachment " << k;
+
+  target.clear_depth(0.5f);
+  target.clear_depth(0.25f);  // replaces the pending 0.5, which would let the quad through
+  target.clear_stencil(7);
+  target.clear_color({0.1f, 0.3f, 0.5f, 0.7f});
+  target.draw(quad.draw(flat_color_program(1), {}));  // depth 0.4 is not less than 0.25: hidden
+  EXPECT_TRUE(target.matches());
+  EXPECT_EQ(distinct_texels(target.color(0).gl.read(), 4), 1u);
+
+  target.clear({0.5f, 0.25f, 1, 1}, 1.0f, 3);
+  DrawState culled;
+  culled.cull = CullMode::Front;  // the quad is counter-clockwise, front-facing: nothing rasterizes
+  target.draw(quad.draw(flat_color_program(1), culled));
+  EXPECT_TRUE(target.matches());
+
+  DualFramebuffer sampled(kWidth, kHeight, {Format::RGBA8, Format::R32F}, false);
+  DualProgram& reader = texture_reading_program();
+  const Sampler nearest{Filter::Nearest, Filter::Nearest, MipFilter::None, Wrap::ClampToEdge, Wrap::ClampToEdge};
+  target.clear({0.0f, 0.6f, 0.2f, 1}, 0.625f);
+  reader.set_texture("color_texture", target.color(0), nearest).set_texture("depth_texture", *target.depth_stencil(), nearest);
+  DrawState untested;
+  untested.depth_test = false;
+  sampled.draw(window_quads({{{0, 0, kWidth, kHeight}, {}}}, kWidth, kHeight).draw_positions(reader, untested));
+  EXPECT_TRUE(sampled.matches());
+  EXPECT_EQ(distinct_texels(sampled.color(0).gl.read(), 4), 1u);
+  EXPECT_EQ(distinct_texels(sampled.color(1).gl.read(), 4), 1u);
+}
+
 // ---- Vertex input -----------------------------------------------------------------------------------------
 
 // One vertex of the interleaved buffer of InterleavedAttributesOfEveryTypeMatchGl.

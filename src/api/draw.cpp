@@ -141,6 +141,7 @@ void resolve_bindings(const Bindings::Impl& bindings, const Program::Impl& progr
       throw InvalidArgument("texture '" + in.textures[i].name + "' of program " + program.file_name + " (line " +
                             std::to_string(in.textures[i].line) + ") is not bound");
     }
+    bound.texture->write_pending_clear();  // the draw's raster pass writes only its own attachments' clears
     source.textures.push_back(bound.texture->data);
     source.texture_descs.push_back(bound.texture->describe(bound.sampler));
   }
@@ -220,10 +221,12 @@ DrawStats Framebuffer::draw(const DrawCall& call) {
     for (Texture* color : impl_->colors) {
       target.colors.push_back(color->impl().data);
       target.formats.push_back(static_cast<int>(color->format()));
+      target.color_clears.push_back(&color->impl().pending_clear);
     }
     if (impl_->depth_stencil != nullptr) {
       const Texture::Impl& depth = impl_->depth_stencil->impl();
       target.depth_stencil = depth.data;
+      target.depth_clear = &depth.pending_clear;
       target.has_stencil = format_info(depth.format).stencil;
       target.stencil_offset = depth.describe().stencil_offset;
     }

@@ -1,6 +1,5 @@
 #include "api/errors.hpp"
 #include "api/impl.hpp"
-#include "cl/launch.hpp"
 #include "clr_limits.h"
 
 #include <algorithm>
@@ -24,6 +23,15 @@ void check_size(int width, int height) {
     throw InvalidArgument("framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                           " is out of range: each side must be 1.." + std::to_string(CLR_MAX_FRAMEBUFFER_SIZE));
   }
+}
+
+// Clears are recorded, not written: the next draw into the texture writes them with its tiles
+// (resources/pending_clear.hpp). A clear replaces the pending one of the same part.
+template <typename Channel>
+void record_color_clear(const Texture::Impl& texture, std::array<Channel, 4> value) {
+  static_assert(sizeof(Channel) == sizeof(std::uint32_t));
+  texture.pending_clear.color = true;
+  std::memcpy(texture.pending_clear.color_bits.data(), value.data(), sizeof value);
 }
 
 }  // namespace
@@ -89,21 +97,6 @@ Texture& Framebuffer::color(int index) {
   return *impl_->colors[static_cast<std::size_t>(index)];
 }
 
-namespace {
-
-// Fills level 0 of `texture` with `value` through the clear kernel of its kind ("float", "int", "uint").
-template <typename Value>
-void clear_texels(ContextState& state, const Texture::Impl& texture, const char* kind, Value value) {
-  cl::Kernel kernel(state.core_program(), (std::string("clear_texels_") + kind).c_str());
-  const auto count = static_cast<cl_uint>(std::size_t(texture.width) * std::size_t(texture.height));
-  cl_host::set_args(kernel, cl_int{static_cast<int>(texture.format)}, texture.data, count, value);
-  state.queue.set_stage(cl_host::Stage::Other);
-  const std::size_t items = cl_host::divide_round_up(count, CLR_CLEAR_TEXELS_PER_ITEM);  // clear.cl
-  cl_host::enqueue_items(state.queue, kernel, items, CLR_ITEM_GROUP_SIZE);
-}
-
-}  // namespace
-
 void Framebuffer::clear(std::array<float, 4> color, float depth, std::uint8_t stencil) {
   clear_color(color);
   clear_depth(depth);
@@ -125,7 +118,7 @@ void Framebuffer::clear_color(int index, std::array<float, 4> color) {
     throw InvalidArgument("colour attachment " + std::to_string(index) + " is " + format_info(texture.format).name +
                           ": clear it with clear_color_int or clear_color_uint");
   }
-  translate_cl_errors([&] { clear_texels(*impl_->state, texture, "float", cl_float4{{color[0], color[1], color[2], color[3]}}); });
+  record_color_clear(texture, color);
 }
 
 void Framebuffer::clear_color_int(int index, std::array<std::int32_t, 4> value) {
@@ -134,7 +127,7 @@ void Framebuffer::clear_color_int(int index, std::array<std::int32_t, 4> value) 
   if (!info.integer || !info.is_signed) {
     throw InvalidArgument("colour attachment " + std::to_string(index) + " is " + info.name + ", not a signed integer format");
   }
-  translate_cl_errors([&] { clear_texels(*impl_->state, texture, "int", cl_int4{{value[0], value[1], value[2], value[3]}}); });
+  record_color_clear(texture, value);
 }
 
 void Framebuffer::clear_color_uint(int index, std::array<std::uint32_t, 4> value) {
@@ -143,25 +136,23 @@ void Framebuffer::clear_color_uint(int index, std::array<std::uint32_t, 4> value
   if (!info.integer || info.is_signed) {
     throw InvalidArgument("colour attachment " + std::to_string(index) + " is " + info.name + ", not an unsigned integer format");
   }
-  translate_cl_errors([&] { clear_texels(*impl_->state, texture, "uint", cl_uint4{{value[0], value[1], value[2], value[3]}}); });
+  record_color_clear(texture, value);
 }
 
 void Framebuffer::clear_depth(float depth) {
   if (impl_->depth_stencil == nullptr) return;
   // As glClearDepth: clamped to [0, 1].
   const float value = std::isnan(depth) ? 0.0f : std::clamp(depth, 0.0f, 1.0f);
-  const Texture::Impl& texture = impl_->depth_stencil->impl();
-  const std::size_t bytes = std::size_t(texture.width) * std::size_t(texture.height) * sizeof(float);
-  translate_cl_errors([&] { impl_->state->queue.get().enqueueFillBuffer(texture.data, value, 0, bytes); });
+  resources::PendingClear& pending = impl_->depth_stencil->impl().pending_clear;
+  pending.depth = true;
+  pending.depth_value = value;
 }
 
 void Framebuffer::clear_stencil(std::uint8_t stencil) {
   if (impl_->depth_stencil == nullptr || !format_info(impl_->depth_stencil->format()).stencil) return;
-  const Texture::Impl& texture = impl_->depth_stencil->impl();
-  const std::size_t bytes = std::size_t(texture.width) * std::size_t(texture.height);
-  translate_cl_errors([&] {
-    impl_->state->queue.get().enqueueFillBuffer(texture.data, cl_uchar{stencil}, texture.describe().stencil_offset, bytes);
-  });
+  resources::PendingClear& pending = impl_->depth_stencil->impl().pending_clear;
+  pending.stencil = true;
+  pending.stencil_value = stencil;
 }
 
 Image Framebuffer::read_color(int index) const {

@@ -7,6 +7,7 @@
 #include "clraster/clraster.hpp"
 #include "pipeline/pipeline.hpp"
 #include "program/interface.hpp"
+#include "resources/pending_clear.hpp"
 #include "stages/types.h"
 
 #include <array>
@@ -75,6 +76,12 @@ struct Texture::Impl {
   int width = 0;
   int height = 0;
   int levels = 1;
+  // A clear of level 0 not written yet (resources/pending_clear.hpp). Mutable: writing it changes
+  // where the texels are, not what they are.
+  mutable resources::PendingClear pending_clear;
+  // Enqueues the pending clear's writes, for whatever reads or writes the texels other than a draw
+  // into them.
+  void write_pending_clear() const;
   // What kernels see of this texture when sampled with `sampler` (or rendered into).
   TextureDesc describe(const Sampler& sampler = {}) const;
   // Byte offset and size of a level's texels in `data`.

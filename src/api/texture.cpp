@@ -84,6 +84,19 @@ std::unique_ptr<Texture::Impl> make_texture(Context& context, int width, int hei
   return impl;
 }
 
+// Fills level 0's plane at byte `offset` of `texture` with `value` through the clear kernel of its
+// kind ("float", "int", "uint"), which converts it as rendered fragments are (clear.cl). `format`: the
+// plane's layout.
+template <typename Value>
+void clear_texels(ContextState& state, const Texture::Impl& texture, Format format, const char* kind, Value value) {
+  cl::Kernel kernel(state.core_program(), (std::string("clear_texels_") + kind).c_str());
+  const auto count = static_cast<cl_uint>(std::size_t(texture.width) * std::size_t(texture.height));
+  cl_host::set_args(kernel, cl_int{static_cast<int>(format)}, texture.data, count, value);
+  state.queue.set_stage(cl_host::Stage::Other);
+  const std::size_t items = cl_host::divide_round_up(count, CLR_CLEAR_TEXELS_PER_ITEM);  // clear.cl
+  cl_host::enqueue_items(state.queue, kernel, items, CLR_ITEM_GROUP_SIZE);
+}
+
 void check_level(const Texture::Impl& texture, int level) {
   if (level < 0 || level >= texture.levels) {
     throw InvalidArgument("texture level " + std::to_string(level) + " does not exist: the texture has " +
@@ -238,10 +251,37 @@ int Texture::height(int level) const {
 int Texture::levels() const { return impl_->levels; }
 Format Texture::format() const { return impl_->format; }
 
+void Texture::Impl::write_pending_clear() const {
+  if (!pending_clear.any()) return;
+  ContextState& context = *state;
+  const FormatInfo& info = format_info(format);
+  if (pending_clear.color) {
+    const auto& bits = pending_clear.color_bits;
+    if (!info.integer) {
+      cl_float4 value;
+      std::memcpy(&value, bits.data(), sizeof value);
+      clear_texels(context, *this, format, "float", value);
+    } else if (info.is_signed) {
+      clear_texels(context, *this, format, "int", cl_int4{{static_cast<cl_int>(bits[0]), static_cast<cl_int>(bits[1]), static_cast<cl_int>(bits[2]), static_cast<cl_int>(bits[3])}});
+    } else {
+      clear_texels(context, *this, format, "uint", cl_uint4{{bits[0], bits[1], bits[2], bits[3]}});
+    }
+  }
+  const std::size_t texels = std::size_t(width) * std::size_t(height);
+  if (pending_clear.depth) {
+    context.queue.get().enqueueFillBuffer(data, pending_clear.depth_value, 0, texels * sizeof(float));
+  }
+  if (pending_clear.stencil) {
+    context.queue.get().enqueueFillBuffer(data, cl_uchar{pending_clear.stencil_value}, describe().stencil_offset, texels);
+  }
+  pending_clear = {};
+}
+
 void Texture::upload(int level, std::span<const std::byte> texels) {
   check_level(*impl_, level);
   check_level_data(impl_->format, impl_->width, impl_->height, level, texels.size());
   translate_cl_errors([&] {
+    impl_->write_pending_clear();  // before the texels it would otherwise overwrite
     impl_->state->queue.get().enqueueWriteBuffer(impl_->data, CL_TRUE, impl_->level_offset_bytes(level), texels.size(),
                                                  texels.data());
   });
@@ -256,6 +296,7 @@ void Texture::generate_mipmaps() {
         impl_->describe(Sampler{Filter::Linear, Filter::Linear, MipFilter::None, Wrap::ClampToEdge, Wrap::ClampToEdge});
     cl::Buffer desc_buffer(state.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof desc,
                            const_cast<TextureDesc*>(&desc));
+    impl_->write_pending_clear();
     cl::Kernel kernel(state.core_program(), "texture_downsample");
     // Level by level: each reads the one before, and the queue runs commands in order.
     for (int level = 1; level < impl_->levels; ++level) {
@@ -272,6 +313,7 @@ std::vector<std::byte> Texture::read(int level) const {
   check_level(*impl_, level);
   std::vector<std::byte> texels(impl_->level_bytes(level));
   translate_cl_errors([&] {
+    impl_->write_pending_clear();
     impl_->state->queue.get().enqueueReadBuffer(impl_->data, CL_TRUE, impl_->level_offset_bytes(level), texels.size(),
                                                 texels.data());
   });
@@ -285,6 +327,7 @@ std::vector<std::uint8_t> Texture::read_stencil() const {
   std::vector<std::uint8_t> stencil(static_cast<std::size_t>(impl_->width) * static_cast<std::size_t>(impl_->height));
   const std::size_t offset = resources::texture_layout(impl_->format, impl_->width, impl_->height, 1).stencil_offset;
   translate_cl_errors([&] {
+    impl_->write_pending_clear();
     impl_->state->queue.get().enqueueReadBuffer(impl_->data, CL_TRUE, offset, stencil.size(), stencil.data());
   });
   return stencil;

@@ -156,6 +156,9 @@ DrawUniforms make_uniforms(const DrawState& s, const RenderTarget& target, const
   u.clip_rect[1] = y0;
   u.clip_rect[2] = std::max(x0, x1);
   u.clip_rect[3] = std::max(y0, y1);
+  u.framebuffer_size[0] = width;
+  u.framebuffer_size[1] = height;
+  u.streaming_stores = std::int64_t{width} * height >= CLR_STREAMING_STORE_PIXELS;
 
   u.topology = s.topology == Topology::TriangleList    ? CLR_TOPOLOGY_LIST
                : s.topology == Topology::TriangleStrip ? CLR_TOPOLOGY_STRIP

@@ -24,6 +24,36 @@ std::uint32_t primitives_of(int topology, std::uint64_t elements) {
   return elements >= 3 ? static_cast<std::uint32_t>(elements - 2) : 0u;
 }
 
+// The pending clears of the attachments a draw's raster pass writes (the colour attachments of its
+// program's outputs, the depth and stencil attachment), as CLR_CLEAR_* bits; their values go into
+// `uniforms`.
+std::uint32_t pending_clears(const RenderTarget& target, std::size_t outputs, DrawUniforms& uniforms) {
+  std::uint32_t clears = 0;
+  for (std::size_t k = 0; k < outputs && k < target.color_clears.size(); ++k) {
+    const resources::PendingClear& pending = *target.color_clears[k];
+    if (!pending.color) continue;
+    clears |= 1u << k;
+    std::copy(pending.color_bits.begin(), pending.color_bits.end(), uniforms.clear_color[k]);
+  }
+  if (target.depth_clear != nullptr && target.depth_clear->depth) {
+    clears |= CLR_CLEAR_DEPTH;
+    uniforms.clear_depth = target.depth_clear->depth_value;
+  }
+  if (target.depth_clear != nullptr && target.has_stencil && target.depth_clear->stencil) {
+    clears |= CLR_CLEAR_STENCIL;
+    uniforms.clear_stencil = target.depth_clear->stencil_value;
+  }
+  return clears;
+}
+
+void mark_clears_written(const RenderTarget& target, std::uint32_t clears) {
+  for (std::size_t k = 0; k < target.color_clears.size(); ++k) {
+    if ((clears >> k) & 1u) target.color_clears[k]->color = false;
+  }
+  if (clears & CLR_CLEAR_DEPTH) target.depth_clear->depth = false;
+  if (clears & CLR_CLEAR_STENCIL) target.depth_clear->stencil = false;
+}
+
 }  // namespace
 
 Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, int tile_size,
@@ -141,6 +171,7 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   // Validated: from here on the draw renders.
   uniforms.index_size = source.index_size;
   uniforms.first = first;
+  frame.clears = pending_clears(target, program.interface.outputs.size(), uniforms);
   cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
   scratch_.set_capacities(frame.plan.buffer_bytes);
   stages::ProgramResources resources;
@@ -179,7 +210,7 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   return stats;
 }
 
-std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats) {
+std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats) {
   // Vertex stage: done once for the draw, or this chunk's stream positions.
   SlotMap slots{1, 0, 0};
   cl::Buffer shaded;
@@ -231,7 +262,7 @@ std::uint32_t Pipeline::run_chunk(const Frame& frame, std::uint32_t begin, std::
   return count;
 }
 
-void Pipeline::bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
+void Pipeline::bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
                                  std::uint32_t pairs) {
   const std::uint32_t tile_count = frame.tiles_x * frame.tiles_y;
   // In batches of primitives whose pairs fit the plan, in order.
@@ -270,11 +301,13 @@ void Pipeline::bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk
     stages::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x,
                                 frame.tiles_y, static_cast<std::uint32_t>(target.width), uniforms_,
                                 target.depth_stencil() != nullptr ? target.depth_stencil : placeholder_, target.stencil_offset,
-                                {}, frame.buffers->resources};
+                                frame.clears, {}, frame.buffers->resources};
     for (std::size_t k = 0; k < frame.source->program->interface.outputs.size(); ++k) {
       raster.colors.push_back(k < target.colors.size() ? target.colors[k] : placeholder_);
     }
     stages.raster.run(queue_, raster);
+    mark_clears_written(target, frame.clears);  // once: later passes load what this one stored
+    frame.clears = 0;
     batch_begin = batch_end;
   }
 }

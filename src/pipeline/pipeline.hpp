@@ -13,6 +13,7 @@
 #include "parallel/radix_sort.hpp"
 #include "pipeline/memory_plan.hpp"
 #include "program/interface.hpp"
+#include "resources/pending_clear.hpp"
 #include "resources/scratch.hpp"
 #include "stages/bin.hpp"
 #include "stages/raster.hpp"
@@ -42,6 +43,10 @@ struct RenderTarget {
   std::uint32_t stencil_offset = 0;
   int width = 0;
   int height = 0;
+  // The attachments' clears not written yet: the draw's first raster pass writes those of the
+  // attachments it renders to, and marks them written.
+  std::vector<resources::PendingClear*> color_clears;  // per colour attachment
+  resources::PendingClear* depth_clear = nullptr;     // of the depth (and stencil) attachment
 };
 
 // The largest index of the range an index buffer was last drawn with: index buffers cannot change
@@ -97,12 +102,13 @@ class Pipeline {
     std::uint32_t tiles_x = 0, tiles_y = 0;
     std::size_t shaded_vertex_bytes = 0;
     std::size_t setup_triangle_bytes = 0;
+    std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
   };
 
   std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);
   // Runs primitives [begin, begin + count) through every stage; returns how many it took (fewer
   // when the chunk had to be shortened).
-  std::uint32_t run_chunk(const Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
+  std::uint32_t run_chunk(Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
   // A chunk's set-up triangles, ready for binning.
   struct ChunkTriangles {
     cl::Buffer records;          // per primitive
@@ -111,7 +117,7 @@ class Pipeline {
     cl::Buffer pair_offsets;     // per primitive, of its bin pairs
   };
   // Bins and rasterizes the triangles of primitives [0, primitives) of the chunk.
-  void bin_and_rasterize(const Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
+  void bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
                          std::uint32_t pairs);
   // Largest k in [lo, hi] with offsets[k] - base <= limit, for an exclusive scan whose value at hi
   // (one past its last element) is `end_value`.

@@ -205,3 +205,12 @@ int4 clr_load_texel_int(int format, __global const uchar* data, uint index) {
 void clr_store_texel_int(int format, __global uchar* data, uint index, int4 value) {
   clr_store_texel_uint(format, data, index, as_uint4(value));
 }
+
+/* What clr_store_texel_uint followed by clr_load_texel_uint gives, without the memory (and the same
+ * bits for the int functions). */
+CLR_INLINE uint4 clr_quantize_uint(int format, uint4 value) {
+  const clr_texel_layout layout = clr_texel_layout_of(format);
+  if (!clr_channel_is_integer(layout.channel_type)) return (uint4)(0u, 0u, 0u, 1u);
+  const uint4 stored = select((uint4)(0u), value, (int4)(0, 1, 2, 3) < layout.channels);
+  return layout.channels < 4 ? (uint4)(stored.xyz, 1u) : stored;
+}

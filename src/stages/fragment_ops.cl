@@ -37,6 +37,7 @@
 #define clr_span_any(mask) ((mask) != 0)
 #define CLR_SPAN_LOAD(pointer) (*(pointer))
 #define CLR_SPAN_STORE(value, pointer) (*(pointer) = (value))
+#define CLR_SPAN_STREAM(value, pointer) CLR_SPAN_STORE(value, pointer)
 #define CLR_SPAN_LANE(type, vector, lane) (vector)
 #elif CLR_CPU_SPAN_PIXELS == 8
 #define CLR_SPAN_PIXELS 8
@@ -46,6 +47,16 @@
 #define clr_span_any(mask) any(mask)
 #define CLR_SPAN_LOAD(pointer) vload8(0, pointer)
 #define CLR_SPAN_STORE(value, pointer) vstore8(value, 0, pointer)
+/* A store to global memory that does not read the line first (non-temporal), where the span is
+ * aligned to its size, which a non-temporal vector store needs; a plain store elsewhere. */
+#define CLR_SPAN_STREAM(value, pointer)                                                     \
+  do {                                                                                      \
+    if (((ulong)(pointer) & (sizeof(value) - 1)) == 0) {                                    \
+      __builtin_nontemporal_store(value, (__global __typeof__((value) + 0)*)(pointer));     \
+    } else {                                                                                \
+      vstore8(value, 0, pointer);                                                           \
+    }                                                                                       \
+  } while (0)
 /* Lane `lane` of the span vector `vector` (a private variable), read through memory: the index
  * varies. Lanes are written with CLR_SPAN_SET_LANE. */
 #define CLR_SPAN_LANE(type, vector, lane) (((type*)&(vector))[lane])

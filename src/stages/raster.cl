@@ -16,6 +16,10 @@
  * attachment's format, for each output. A program that neither discards nor writes depth nor takes
  * derivatives has its tests run first (early fragment tests), so hidden fragments skip it.
  *
+ * A pass that writes pending clears (`clears`, resources/pending_clear.hpp) starts each tile from the
+ * clear values instead of loading it, runs the tiles without triangles too (they store the clear
+ * values and nothing else), and writes its tiles back whole, also outside the clip rectangle.
+ *
  * Tile storage: a colour attachment's pixel is four 32-bit words, kept channel by channel so that
  * a span of one channel is one vector (CLR_TILE_WORD), holding the decoded value exactly as the
  * attachment stores it (float bits for normalized and float formats, already quantized to the
@@ -126,13 +130,23 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
   else clr_store_texel_float(format, data, pixel, as_float4(value));
 }
 
+/* Whether the pixel (x, y) is inside the rectangle r (x0, y0, x1, y1, exclusive), and whether the
+ * whole span of pixels from (x, y) is. */
+inline bool inside_rect(int x, int y, int4 r) { return x >= r.x && x < r.z && y >= r.y && y < r.w; }
+inline bool whole_span_inside(int x, int y, int4 r) {
+  return inside_rect(x, y, r) && inside_rect(x + CLR_SPAN_PIXELS - 1, y, r);
+}
 /* Whether the pixel (x, y) is inside the draw's clip rectangle (scissor and framebuffer), and whether
  * the whole span of pixels from (x, y) is. */
-inline bool writable(int x, int y, __constant const DrawUniforms* u) {
-  return x >= u->clip_rect[0] && x < u->clip_rect[2] && y >= u->clip_rect[1] && y < u->clip_rect[3];
-}
+inline bool writable(int x, int y, __constant const DrawUniforms* u) { return inside_rect(x, y, vload4(0, u->clip_rect)); }
 inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) {
-  return writable(x, y, u) && writable(x + CLR_SPAN_PIXELS - 1, y, u);
+  return whole_span_inside(x, y, vload4(0, u->clip_rect));
+}
+
+/* The pixels of an attachment that the tile loads and stores: those of the clip rectangle, or every
+ * pixel of the framebuffer for an attachment whose pending clear the pass writes (`clearing`). */
+inline int4 moved_rect(bool clearing, __constant const DrawUniforms* u) {
+  return clearing ? (int4)(0, 0, u->framebuffer_size[0], u->framebuffer_size[1]) : vload4(0, u->clip_rect);
 }
 
 /* Whether the tile holds colour attachment `target` as its bytes (0 to 255, in floats) rather than
@@ -147,6 +161,23 @@ CLR_INLINE bool holds_bytes(int format, BlendUniforms b) {
 inline bool tile_holds_bytes(__constant const DrawUniforms* u, uint target) {
   return holds_bytes(u->target_format[target], u->blend[target]);
 }
+
+/* Colour attachment `target`'s pixels once its pending clear is written, as load_attachment_pixel
+ * gives them: the clear value as storing it into the attachment and loading it back gives it. */
+inline uint4 cleared_pixel(__constant const DrawUniforms* u, uint target) {
+  const int format = u->target_format[target];
+  const uint4 value = vload4(0, u->clear_color[target]);
+  if (is_integer_format(format)) return clr_quantize_uint(format, value);
+  return as_uint4(clr_quantize_float(format, as_float4(value)));
+}
+
+/* A span of the tile written back to an attachment: streaming (non-temporal) where the draw's
+ * uniforms say so (CLR_STREAMING_STORE_PIXELS), plain otherwise. */
+#define CLR_WRITE_BACK_SPAN(value, pointer, streaming) \
+  do {                                                 \
+    if (streaming) CLR_SPAN_STREAM(value, pointer);    \
+    else CLR_SPAN_STORE(value, pointer);               \
+  } while (0)
 
 /* RGBA8, the usual attachment, moves between the framebuffer and the tile a span at a time: one
  * vector of the span's 32-bit pixels, whose byte c is channel c on little-endian devices (all that
@@ -165,7 +196,7 @@ CLR_INLINE void load_rgba8_span(__global const uint* pixels, bool bytes, __local
     CLR_SPAN_STORE(CLR_SPAN_AS(uint, bytes ? byte : byte / 255.0f), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
   }
 }
-CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, bool bytes, __global uint* pixels) {
+CLR_INLINE clr_span_uint pack_rgba8_span(__local const uint* tile_channels, bool bytes) {
   clr_span_uint packed = 0u;
 #pragma unroll
   for (int c = 0; c < 4; ++c) {
@@ -173,7 +204,7 @@ CLR_INLINE void store_rgba8_span(__local const uint* tile_channels, bool bytes, 
     const clr_span_float byte = bytes ? value : round_small(fmin(fmax(value, 0.0f), 1.0f) * 255.0f);
     packed |= CLR_SPAN_CONVERT(uint, byte) << (8u * c);
   }
-  CLR_SPAN_STORE(packed, pixels);
+  return packed;
 }
 
 /* A colour attachment's span in the tile, and the span written back where `written` is true. */
@@ -461,7 +492,7 @@ __kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1)))
 void raster_tiles(__global const SetupTriangle* records, __global const SetupTriangle* overflow,
                   __global const uint* sorted_triangles, __global const uint* tile_ranges, uint tiles_x,
                   uint framebuffer_width, __constant const DrawUniforms* u, __global uchar* depth_stencil,
-                  uint stencil_offset CLR_TARGET_PARAMS CLR_RESOURCE_PARAMS) {
+                  uint stencil_offset, uint clears CLR_TARGET_PARAMS CLR_RESOURCE_PARAMS) {
   __local SetupTriangle batch[CLR_RASTER_TRIANGLE_BATCH];
   __local ulong masks[CLR_RASTER_TRIANGLE_BATCH][CLR_TILE_MASK_WORDS]; /* coverage_mask of each */
   __local uint tile_color[CLR_TILE_TARGETS * 4 * CLR_TILE_PIXELS]; /* CLR_TILE_WORD */
@@ -473,7 +504,9 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   const uint tile = get_group_id(0);
   const uint begin = tile_ranges[2 * tile];
   const uint end = tile_ranges[2 * tile + 1];
-  if (begin == end) return; /* the same for the whole group: no barrier is skipped by only some items */
+  /* A tile without triangles has nothing to do but the pass's pending clears (below). The same for the
+   * whole group: no barrier is skipped by only some items. */
+  if (begin == end && clears == 0) return;
 
   const int2 origin = (int2)((int)(tile % tiles_x), (int)(tile / tiles_x)) * CLR_TILE_SIZE;
   const uint item = get_local_id(0);
@@ -482,7 +515,15 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_NUM_OUTPUTS > 0 /* a program without outputs (a depth-only pass) has no colour targets */
   __global uchar* const targets[CLR_NUM_OUTPUTS] = CLR_TARGETS;
 #endif
-  for (uint first = item * CLR_SPAN_PIXELS; first < CLR_TILE_PIXELS; first += CLR_RASTER_GROUP * CLR_SPAN_PIXELS) {
+  const bool clear_depth = (clears & CLR_CLEAR_DEPTH) != 0;
+  const bool clear_stencil = (clears & CLR_CLEAR_STENCIL) != 0;
+#if CLR_NUM_OUTPUTS > 0
+  uint4 cleared[CLR_NUM_OUTPUTS]; /* once per tile: the conversions are not cheap */
+  for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) cleared[k] = (clears >> k) & 1u ? cleared_pixel(u, k) : (uint4)(0u);
+#endif
+  /* A tile without triangles only writes the clears, straight from their values. */
+  const bool empty = begin == end;
+  for (uint first = item * CLR_SPAN_PIXELS; first < CLR_TILE_PIXELS && !empty; first += CLR_RASTER_GROUP * CLR_SPAN_PIXELS) {
     const int x = origin.x + (int)(first % CLR_TILE_SIZE);
     const int y = origin.y + (int)(first / CLR_TILE_SIZE);
     const uint pixel = (uint)y * framebuffer_width + (uint)x;
@@ -490,6 +531,14 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_NUM_OUTPUTS > 0
     for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
       const int format = u->target_format[k];
+      if ((clears >> k) & 1u) { /* the clear value, instead of what the clear would have stored */
+        const uint4 value = tile_holds_bytes(u, k) ? as_uint4(rint(as_float4(cleared[k]) * 255.0f)) : cleared[k];
+        CLR_SPAN_STORE((clr_span_uint)(value.x), &tile_color[CLR_TILE_WORD(k, 0, first)]);
+        CLR_SPAN_STORE((clr_span_uint)(value.y), &tile_color[CLR_TILE_WORD(k, 1, first)]);
+        CLR_SPAN_STORE((clr_span_uint)(value.z), &tile_color[CLR_TILE_WORD(k, 2, first)]);
+        CLR_SPAN_STORE((clr_span_uint)(value.w), &tile_color[CLR_TILE_WORD(k, 3, first)]);
+        continue;
+      }
       if (whole && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
         load_rgba8_span((__global const uint*)targets[k] + pixel, tile_holds_bytes(u, k),
                         &tile_color[CLR_TILE_WORD(k, 0, first)]);
@@ -506,15 +555,19 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       }
     }
 #endif
-    if (whole) {
-      CLR_SPAN_STORE(u->depth_test ? CLR_SPAN_LOAD(&depth[pixel]) : (clr_span_float)(0.0f), &tile_depth[first]);
-      CLR_SPAN_STORE(u->stencil_test ? CLR_SPAN_LOAD(&stencil[pixel]) : (CLR_SPAN(uchar))(0), &tile_stencil[first]);
-      continue;
+    if (clear_depth) CLR_SPAN_STORE((clr_span_float)(u->clear_depth), &tile_depth[first]);
+    else if (whole) CLR_SPAN_STORE(u->depth_test ? CLR_SPAN_LOAD(&depth[pixel]) : (clr_span_float)(0.0f), &tile_depth[first]);
+    else {
+      for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+        tile_depth[first + i] = writable(x + i, y, u) && u->depth_test ? depth[pixel + i] : 0.0f;
+      }
     }
-    for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
-      const bool inside = writable(x + i, y, u);
-      tile_depth[first + i] = inside && u->depth_test ? depth[pixel + i] : 0.0f;
-      tile_stencil[first + i] = inside && u->stencil_test ? stencil[pixel + i] : 0;
+    if (clear_stencil) CLR_SPAN_STORE((CLR_SPAN(uchar))((uchar)u->clear_stencil), &tile_stencil[first]);
+    else if (whole) CLR_SPAN_STORE(u->stencil_test ? CLR_SPAN_LOAD(&stencil[pixel]) : (CLR_SPAN(uchar))(0), &tile_stencil[first]);
+    else {
+      for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+        tile_stencil[first + i] = writable(x + i, y, u) && u->stencil_test ? stencil[pixel + i] : 0;
+      }
     }
   }
 
@@ -577,36 +630,55 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #endif
   }
   barrier(CLK_LOCAL_MEM_FENCE); /* every pixel's last fragment is in the tile */
+  const int4 depth_rect = moved_rect(clear_depth, u);
+  const int4 stencil_rect = moved_rect(clear_stencil, u);
+  const bool store_depth = empty ? clear_depth : (u->depth_test && u->depth_write) || clear_depth;
+  const bool store_stencil = empty ? clear_stencil : u->stencil_test || clear_stencil;
   for (uint first = item * CLR_SPAN_PIXELS; first < CLR_TILE_PIXELS; first += CLR_RASTER_GROUP * CLR_SPAN_PIXELS) {
     const int x = origin.x + (int)(first % CLR_TILE_SIZE);
     const int y = origin.y + (int)(first / CLR_TILE_SIZE);
     const uint pixel = (uint)y * framebuffer_width + (uint)x;
-    const bool whole = whole_span_writable(x, y, u);
 #if CLR_NUM_OUTPUTS > 0
     for (int k = 0; k < CLR_NUM_OUTPUTS; ++k) {
       const int format = u->target_format[k];
-      if (whole && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
-        store_rgba8_span(&tile_color[CLR_TILE_WORD(k, 0, first)], tile_holds_bytes(u, k), (__global uint*)targets[k] + pixel);
+      const bool clearing = (clears >> k) & 1u;
+      if (empty && !clearing) continue;
+      const int4 rect = moved_rect(clearing, u);
+      if (whole_span_inside(x, y, rect) && format == CLR_FORMAT_RGBA8 && CLR_PACKED_RGBA8) {
+        if (empty) {
+          const uint4 bytes = clr_float_to_unorm8(as_float4(cleared[k]));
+          CLR_WRITE_BACK_SPAN((clr_span_uint)(bytes.x | bytes.y << 8 | bytes.z << 16 | bytes.w << 24),
+                              (__global uint*)targets[k] + pixel, u->streaming_stores);
+        } else {
+          CLR_WRITE_BACK_SPAN(pack_rgba8_span(&tile_color[CLR_TILE_WORD(k, 0, first)], tile_holds_bytes(u, k)),
+                              (__global uint*)targets[k] + pixel, u->streaming_stores);
+        }
         continue;
       }
       for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
-        if (writable(x + i, y, u) && format >= 0) {
-          uint4 value = clr_tile_pixel(tile_color, k, first + i);
-          if (tile_holds_bytes(u, k)) value = as_uint4(as_float4(value) / 255.0f); /* stored as c again */
+        if (inside_rect(x + i, y, rect) && format >= 0) {
+          uint4 value = empty ? cleared[k] : clr_tile_pixel(tile_color, k, first + i);
+          if (!empty && tile_holds_bytes(u, k)) value = as_uint4(as_float4(value) / 255.0f); /* stored as c again */
           store_attachment_pixel(format, targets[k], pixel + i, value);
         }
       }
     }
 #endif
-    if (whole) {
-      if (u->depth_test && u->depth_write) CLR_SPAN_STORE(CLR_SPAN_LOAD(&tile_depth[first]), &depth[pixel]);
-      if (u->stencil_test) CLR_SPAN_STORE(CLR_SPAN_LOAD(&tile_stencil[first]), &stencil[pixel]);
-      continue;
+    const clr_span_float depths = empty ? (clr_span_float)(u->clear_depth) : CLR_SPAN_LOAD(&tile_depth[first]);
+    if (store_depth && whole_span_inside(x, y, depth_rect)) {
+      CLR_WRITE_BACK_SPAN(depths, &depth[pixel], u->streaming_stores);
+    } else if (store_depth) {
+      for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+        if (inside_rect(x + i, y, depth_rect)) depth[pixel + i] = CLR_SPAN_LANE(float, depths, i);
+      }
     }
-    for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
-      if (!writable(x + i, y, u)) continue;
-      if (u->depth_test && u->depth_write) depth[pixel + i] = tile_depth[first + i];
-      if (u->stencil_test) stencil[pixel + i] = tile_stencil[first + i];
+    const CLR_SPAN(uchar) stencils = empty ? (CLR_SPAN(uchar))((uchar)u->clear_stencil) : CLR_SPAN_LOAD(&tile_stencil[first]);
+    if (store_stencil && whole_span_inside(x, y, stencil_rect)) {
+      CLR_SPAN_STORE(stencils, &stencil[pixel]);
+    } else if (store_stencil) {
+      for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
+        if (inside_rect(x + i, y, stencil_rect)) stencil[pixel + i] = CLR_SPAN_LANE(uchar, stencils, i);
+      }
     }
   }
   /* The pixels outside the clip rectangle meet the others here, not at the kernel's end, which the

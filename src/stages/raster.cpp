@@ -10,8 +10,8 @@ RasterStage::RasterStage(const cl::Program& program)
 void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
   queue.set_stage(cl_host::Stage::Raster);
   cl_host::set_args(kernel_, p.records, p.overflow, p.sorted_ids, p.tile_ranges, cl_uint{p.tiles_x}, cl_uint{p.width},
-                    p.uniforms, p.depth_stencil, cl_uint{p.stencil_offset});
-  cl_uint next = 9;
+                    p.uniforms, p.depth_stencil, cl_uint{p.stencil_offset}, cl_uint{p.clears});
+  cl_uint next = 10;
   for (const cl::Buffer& color : p.colors) kernel_.setArg(next++, color);
   set_resource_args(kernel_, next, *p.resources);
   // One work-group per tile, of the shape the program was compiled for (raster.cl).

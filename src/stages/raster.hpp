@@ -1,5 +1,5 @@
 // Rasterization, the fragment program and the per-fragment operations (kernel in raster.cl): one
-// work-group per tile that has triangles binned to it.
+// work-group per tile that has triangles binned to it (per tile, when the pass writes pending clears).
 #pragma once
 
 #include "stages/draw_buffers.hpp"
@@ -19,6 +19,9 @@ struct RasterParams {
   cl::Buffer uniforms;
   cl::Buffer depth_stencil;  // depth floats, then stencil bytes at stencil_offset (a placeholder: none)
   std::uint32_t stencil_offset = 0;
+  // Pending clears the pass writes (CLR_CLEAR_*, values in the uniforms): every tile then starts from
+  // them instead of the attachments and is written back whole, with or without triangles.
+  std::uint32_t clears = 0;
   std::vector<cl::Buffer> colors;  // one per program output (placeholders where no attachment is)
   const ProgramResources* resources = nullptr;
 };

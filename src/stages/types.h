@@ -221,7 +221,18 @@ typedef struct {
   clr_int target_format[CLR_MAX_COLOR_ATTACHMENTS]; /* CLR_FORMAT_* of each colour attachment, -1: none */
   BlendUniforms blend[CLR_MAX_COLOR_ATTACHMENTS];
   StencilUniforms stencil[2];   /* for front-facing, then back-facing triangles */
+  /* Clears the raster pass may write with its tiles (raster_tiles' `clears`): each colour
+   * attachment's value as the bits of its float, int or uint channels, the depth and the stencil. */
+  clr_uint clear_color[CLR_MAX_COLOR_ATTACHMENTS][4];
+  clr_float clear_depth;
+  clr_uint clear_stencil;
+  clr_int framebuffer_size[2];  /* width, height: where a clear is written */
+  clr_int streaming_stores;     /* the tile's write-back bypasses the caches (CLR_STREAMING_STORE_PIXELS) */
 } DrawUniforms;
+
+/* raster_tiles' `clears`: bit k for colour attachment k, then these two. */
+#define CLR_CLEAR_DEPTH (1u << CLR_MAX_COLOR_ATTACHMENTS)
+#define CLR_CLEAR_STENCIL (1u << (CLR_MAX_COLOR_ATTACHMENTS + 1))
 
 /* Where a vertex attribute's element i (vertex, or instance when per_instance) is: at byte
  * offset + i * stride of its buffer. components 0: not supplied, the attribute reads (0, 0, 0, 1). */

@@ -251,6 +251,21 @@ void DualFramebuffer::clear_color_uint(int index, std::array<std::uint32_t, 4> v
   gl_.clear_color_uint(index, value);
 }
 
+void DualFramebuffer::clear_color(std::array<float, 4> color) {
+  clraster_.clear_color(color);
+  gl_.clear_color(color);
+}
+
+void DualFramebuffer::clear_depth(float depth) {
+  clraster_.clear_depth(depth);
+  gl_.clear_depth(depth);
+}
+
+void DualFramebuffer::clear_stencil(std::uint8_t stencil) {
+  clraster_.clear_stencil(stencil);
+  gl_.clear_stencil(stencil);
+}
+
 void DualFramebuffer::draw(const DualDraw& draw) {
   DrawCall call;
   call.program = &draw.program->clraster;

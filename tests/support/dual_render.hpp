@@ -127,6 +127,9 @@ class DualFramebuffer {
   void clear(std::array<float, 4> color, float depth = 1.0f, std::uint8_t stencil = 0);
   void clear_color_int(int index, std::array<std::int32_t, 4> value);
   void clear_color_uint(int index, std::array<std::uint32_t, 4> value);
+  void clear_color(std::array<float, 4> color);  // every colour attachment
+  void clear_depth(float depth);
+  void clear_stencil(std::uint8_t stencil);
 
   // Draws with both renderers.
   void draw(const DualDraw& draw);
