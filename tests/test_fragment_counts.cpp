@@ -340,6 +340,35 @@ TEST(FragmentCounts, TinyTrianglesDrawExactlyThePixelCentresTheyEnclose) {
   EXPECT_TRUE(same_counts(expect_exact_counts(tiny, kWidth, kHeight), expected));
 }
 
+// Triangles whose bounding box holds a single pixel centre that they miss: one that a corner's long
+// edge passes beside, one with the centre on its top edge, one with it on its right edge, in both
+// windings. They draw nothing, as OpenGL's rules say, and culling drops them before binning: the
+// draw makes no (tile, triangle) pair.
+TEST(FragmentCounts, TrianglesMissingTheOnlyCentreOfTheirBoxAreCulledBeforeBinning) {
+  constexpr int kWidth = 48, kHeight = 32;
+  const std::array<glm::dvec2, 3> shapes[] = {{{{0.35, -0.25}, {0.35, 0.35}, {-0.25, 0.35}}},  // x + y >= 0.1
+                                             {{{-0.3, 0}, {0.3, 0}, {0, -0.3}}},             // top edge y = 0
+                                             {{{0, -0.3}, {0, 0.3}, {-0.3, 0}}}};            // right edge x = 0
+  io::Mesh missing;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const auto& shape = shapes[(x + y) % 3];
+      for (int c = 0; c < 3; ++c) {
+        const glm::dvec2 p = glm::dvec2(x + 0.5, y + 0.5) + shape[y % 2 ? 2 - c : c];
+        missing.indices.push_back(static_cast<std::uint32_t>(missing.vertex_count()));
+        missing.positions.insert(missing.positions.end(), {static_cast<float>(p.x), static_cast<float>(p.y), 0});
+        missing.normals.insert(missing.normals.end(), {0, 0, 1});
+      }
+    }
+  }
+  snap_to_grid(missing, kSubpixel);
+  EXPECT_TRUE(same_counts(expect_exact_counts(missing, kWidth, kHeight), FragmentCounts(kWidth, kHeight)));
+  const RenderResult drawn = render_clraster(shared_context(), window_to_ndc(missing, {0, 0, kWidth, kHeight}),
+                                             overdraw_counter(), kWidth, kHeight);
+  EXPECT_EQ(drawn.stats.triangles, std::uint64_t{kWidth} * kHeight);
+  EXPECT_EQ(drawn.stats.tile_triangle_pairs, 0u);
+}
+
 // Slivers one 1/256 pixel high on a row of pixel centres, 1 to 6 pixels long (areas of 1/512 to
 // 6/512 of a pixel): those resting on the row draw the centres of its bottom edge, [x0, x1); those
 // hanging from it, whose edge on the row is a top edge, draw nothing. Triangles with no area at all
