@@ -75,8 +75,8 @@ inline bool edge_covers_centre(int2 a, int2 b, int2 p) {
   return e > 0 || (e == 0 && edge_includes_centres(a, b));
 }
 
-/* Where the box [lo, hi] holds a single pixel centre, which is the case of most of a dense mesh's
- * smallest triangles, tests that centre with the rasterizer's own test (exact edge functions and
+/* Where the box [lo, hi] holds a single pixel centre, as it does for many of a dense mesh's smallest
+ * triangles, tests that centre with the rasterizer's own test (exact edge functions and
  * the top-left rule) and empties the box when the triangle misses it: a triangle that falls between
  * the centres is then culled instead of being set up, binned and rasterized for nothing. The picture
  * cannot change: the rasterizer never writes a pixel outside its triangle's coverage. The centre
