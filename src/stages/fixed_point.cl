@@ -68,30 +68,29 @@ inline long edge_function(int2 a, int2 b, long px, long py) {
   return (long)(b.x - a.x) * (py - a.y) - (long)(b.y - a.y) * (px - a.x);
 }
 
-/* Whether centre p is on the inner side of the edge from a to b of a counter-clockwise triangle:
- * E > 0, or E = 0 on an edge that includes its centres. For a, b and p within 2^14 of each other. */
-inline bool edge_covers_centre(int2 a, int2 b, int2 p) {
-  const int e = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+/* Whether the centre (px, py) is on the inner side of the edge from a to b of a counter-clockwise
+ * triangle: E > 0, or E = 0 on an edge that includes its centres. */
+inline bool edge_covers_centre(int2 a, int2 b, long px, long py) {
+  const long e = edge_function(a, b, px, py);
   return e > 0 || (e == 0 && edge_includes_centres(a, b));
 }
 
 /* Where the box [lo, hi] holds a single pixel centre, as it does for many of a dense mesh's smallest
- * triangles, tests that centre with the rasterizer's own test (exact edge functions and
- * the top-left rule) and empties the box when the triangle misses it: a triangle that falls between
- * the centres is then culled instead of being set up, binned and rasterized for nothing. The picture
- * cannot change: the rasterizer never writes a pixel outside its triangle's coverage. The centre
- * lies inside the triangle's own bounds, so for a triangle less than 64 pixels across (a larger one
- * has this small a box only where the clip rectangle cuts it, and keeps it) every term fits 32 bits. */
+ * triangles, tests that centre with the rasterizer's own test (exact edge functions and the top-left
+ * rule) and empties the box when the triangle misses it: a triangle that falls between the centres
+ * is then culled instead of being set up, binned and rasterized for nothing. The picture cannot
+ * change: the rasterizer never writes a pixel outside its triangle's coverage. */
 CLR_INLINE void cull_missed_centre(int2 a, int2 b, int2 c, long signed_double_area, int2* lo, int2* hi) {
-  const int2 extent = max(a, max(b, c)) - min(a, min(b, c));
-  if (any(*lo != *hi) || any(extent >= (int2)(64 * CLR_SUBPIXEL_ONE))) return;
+  if (any(*lo != *hi)) return;
   if (signed_double_area < 0) {
     const int2 swap = b;
     b = c;
     c = swap;
   }
-  const int2 p = *lo * CLR_SUBPIXEL_ONE;
-  const bool covered = edge_covers_centre(b, c, p) && edge_covers_centre(c, a, p) && edge_covers_centre(a, b, p);
+  const long px = (long)lo->x << CLR_SUBPIXEL_BITS;
+  const long py = (long)lo->y << CLR_SUBPIXEL_BITS;
+  const bool covered = edge_covers_centre(b, c, px, py) && edge_covers_centre(c, a, px, py) &&
+                       edge_covers_centre(a, b, px, py);
   if (!covered) *hi = *lo - 1;
 }
 
