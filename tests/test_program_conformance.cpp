@@ -159,6 +159,36 @@ void fragment(clr_fragment* f) { f->out.color = (float4)(f->in.uv, 0.0f, 1.0f); 
   EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 1e-4}));
 }
 
+// The fragment's window depth and 1 / w (gl_FragCoord.zw) over the same ground, with the depth test
+// off and on: raster.cl works out a span's depth before the tests when the depth test needs it, and
+// only for fragments that passed them otherwise; both ways must give GL's. Both are within 7.8e-7 of
+// GL's (measured; depth is in [0, 1], 1 / w up to about 10 here).
+TEST(Interpolation, FragmentCoordinatesMatchOpenGlWithAndWithoutTheDepthTest) {
+  ProgramPair program(R"(
+clr_attribute(float3, position)
+clr_uniform(float16, mvp)
+clr_output(float4, color)
+void vertex(clr_vertex* v) { v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f)); }
+void fragment(clr_fragment* f) { f->out.color = (float4)(f->frag_coord.z, f->frag_coord.w, 0.0f, 1.0f); }
+)",
+                      "#version 450 core\nin vec3 position;\nuniform mat4 mvp;\n"
+                      "void main() { gl_Position = mvp * vec4(position, 1.0); }\n",
+                      "#version 450 core\nout vec4 color;\n"
+                      "void main() { color = vec4(gl_FragCoord.z, gl_FragCoord.w, 0.0, 1.0); }\n",
+                      "frag_coord.cl");
+  program.set("mvp", view_matrix(View::Horizon));
+  for (const bool depth_test : {false, true}) {
+    SCOPED_TRACE(depth_test ? "depth test on" : "depth test off");
+    FramebufferPair target(kPictureSize, kPictureSize, {Format::RGBA32F}, Format::Depth32F);
+    target.clear({0, 0, 0, 0}, 1.0f);
+    ProgramDraw draw = ground_draw();
+    draw.attributes.resize(1); /* the position */
+    draw.state.depth_test = depth_test;
+    target.draw(program, draw);
+    EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 2e-6}));
+  }
+}
+
 // The level of detail itself: a texture whose level k holds the value k everywhere, sampled
 // trilinearly, returns lambda clamped to [0, 6] (lerps between whole levels are exact). llvmpipe
 // takes one lambda per 2x2 quad from the differences along the quad's first row and column, as
