@@ -182,7 +182,7 @@ void fragment(clr_fragment* f) { f->out.color = (float4)(f->frag_coord.z, f->fra
     FramebufferPair target(kPictureSize, kPictureSize, {Format::RGBA32F}, Format::Depth32F);
     target.clear({0, 0, 0, 0}, 1.0f);
     ProgramDraw draw = ground_draw();
-    draw.attributes.resize(1); /* the position */
+    draw.attributes.resize(1);  // the position
     draw.state.depth_test = depth_test;
     target.draw(program, draw);
     EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 2e-6}));
