@@ -10,7 +10,7 @@
  *   radix_scatter    per block, each pair's rank among the block's pairs with the same digit, in
  *                    input order, added to that position. */
 
-inline uint radix_digit(uint key, uint shift) { return (key >> shift) & (CLR_RADIX_BUCKETS - 1); }
+static inline uint radix_digit(uint key, uint shift) { return (key >> shift) & (CLR_RADIX_BUCKETS - 1); }
 
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
 void radix_histogram(__global const uint* keys, uint count, uint shift, __global uint* histogram,

@@ -12,29 +12,29 @@
 #define clr_output(type, name)
 
 /* ---- Matrices: float16 holds a column-major 4x4 matrix (as glUniformMatrix4fv) ---------------- */
-inline float4 clr_mul(float16 m, float4 v) {
+static inline float4 clr_mul(float16 m, float4 v) {
   return m.s0123 * v.x + m.s4567 * v.y + m.s89ab * v.z + m.scdef * v.w;
 }
-inline float16 clr_mul_matrix(float16 a, float16 b) {
+static inline float16 clr_mul_matrix(float16 a, float16 b) {
   return (float16)(clr_mul(a, b.s0123), clr_mul(a, b.s4567), clr_mul(a, b.s89ab), clr_mul(a, b.scdef));
 }
 /* The upper-left 3x3 of m times v (directions, or normals with the inverse-transpose). */
-inline float3 clr_mul3(float16 m, float3 v) { return m.s012 * v.x + m.s456 * v.y + m.s89a * v.z; }
+static inline float3 clr_mul3(float16 m, float3 v) { return m.s012 * v.x + m.s456 * v.y + m.s89a * v.z; }
 
 /* ---- Fragments ---------------------------------------------------------------------------------- */
 /* Discards the fragment: nothing of it is written. The program keeps running (its derivatives must
  * stay available to the rest of its quad), so return after it where that matters. */
-inline void clr_discard(clr_fragment* f) { f->discarded = true; }
+static inline void clr_discard(clr_fragment* f) { f->discarded = true; }
 
 /* Framebuffer fetch: colour attachment `target` at this pixel as it is before this fragment is
  * written (after every earlier fragment of the draw and of earlier draws). */
-inline float4 clr_framebuffer_fetch(const clr_fragment* f, uint target) {
+static inline float4 clr_framebuffer_fetch(const clr_fragment* f, uint target) {
   return target < CLR_NUM_OUTPUTS ? as_float4(clr_tile_pixel(f->clr_tile, target, f->clr_lane)) : (float4)(0.0f);
 }
-inline int4 clr_framebuffer_fetch_int(const clr_fragment* f, uint target) {
+static inline int4 clr_framebuffer_fetch_int(const clr_fragment* f, uint target) {
   return target < CLR_NUM_OUTPUTS ? as_int4(clr_tile_pixel(f->clr_tile, target, f->clr_lane)) : (int4)(0);
 }
-inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint target) {
+static inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint target) {
   return target < CLR_NUM_OUTPUTS ? clr_tile_pixel(f->clr_tile, target, f->clr_lane) : (uint4)(0);
 }
 
@@ -54,7 +54,7 @@ inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint target) {
 #define CLR_QUAD_Y 1
 
 /* Makes `value` visible to the quad; returns the difference along `axis`. */
-inline float4 clr_quad_difference(clr_fragment* f, float4 value, int axis, bool coarse) {
+static inline float4 clr_quad_difference(clr_fragment* f, float4 value, int axis, bool coarse) {
   barrier(CLK_LOCAL_MEM_FENCE); /* every earlier exchange has been read */
   f->clr_quad[f->clr_lane] = value;
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -91,16 +91,16 @@ CLR_DERIVATIVE(clr_dfdx, CLR_QUAD_X, CLR_DEFAULT_DERIVATIVE_COARSE)
 CLR_DERIVATIVE(clr_dfdy, CLR_QUAD_Y, CLR_DEFAULT_DERIVATIVE_COARSE)
 #undef CLR_DERIVATIVE
 
-__attribute__((overloadable)) inline float clr_fwidth(clr_fragment* f, float v) {
+static __attribute__((overloadable)) inline float clr_fwidth(clr_fragment* f, float v) {
   return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
 }
-__attribute__((overloadable)) inline float2 clr_fwidth(clr_fragment* f, float2 v) {
+static __attribute__((overloadable)) inline float2 clr_fwidth(clr_fragment* f, float2 v) {
   return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
 }
-__attribute__((overloadable)) inline float3 clr_fwidth(clr_fragment* f, float3 v) {
+static __attribute__((overloadable)) inline float3 clr_fwidth(clr_fragment* f, float3 v) {
   return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
 }
-__attribute__((overloadable)) inline float4 clr_fwidth(clr_fragment* f, float4 v) {
+static __attribute__((overloadable)) inline float4 clr_fwidth(clr_fragment* f, float4 v) {
   return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
 }
 
@@ -108,7 +108,7 @@ __attribute__((overloadable)) inline float4 clr_fwidth(clr_fragment* f, float4 v
  * clr_sample_lod, clr_sample_grad, clr_texel_fetch(_int, _uint), clr_texture_size and
  * clr_texture_levels work in any program (resources/texture.cl). In fragment programs clr_sample
  * picks the level of detail from the quad's derivatives of uv, as GLSL's texture() does. */
-inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
+static inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
   barrier(CLK_LOCAL_MEM_FENCE);
   f->clr_quad[f->clr_lane] = (float4)(uv, 0.0f, 0.0f);
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -122,11 +122,11 @@ inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
 }
 
 /* ---- Vertex attributes (used by the generated fetch) ----------------------------------------------- */
-inline __global const uchar* clr_attribute_element(__constant const AttributeDesc* d, __global const uchar* data,
+static inline __global const uchar* clr_attribute_element(__constant const AttributeDesc* d, __global const uchar* data,
                                                    uint vertex, uint instance) {
   return data + d->offset + (ulong)(d->per_instance ? instance : vertex) * d->stride;
 }
-inline float4 clr_fetch_float(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
+static inline float4 clr_fetch_float(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
                               uint instance) {
   float4 v = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
   __global const float* p = (__global const float*)clr_attribute_element(d, data, vertex, instance);
@@ -136,7 +136,7 @@ inline float4 clr_fetch_float(__constant const AttributeDesc* d, __global const 
   if (d->components > 3) v.w = p[3];
   return v;
 }
-inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global const uchar* data, uint vertex, uint instance) {
+static inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global const uchar* data, uint vertex, uint instance) {
   int4 v = (int4)(0, 0, 0, 1);
   __global const int* p = (__global const int*)clr_attribute_element(d, data, vertex, instance);
   if (d->components > 0) v.x = p[0];
@@ -145,7 +145,7 @@ inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global const ucha
   if (d->components > 3) v.w = p[3];
   return v;
 }
-inline uint4 clr_fetch_uint(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
+static inline uint4 clr_fetch_uint(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
                             uint instance) {
   return as_uint4(clr_fetch_int(d, data, vertex, instance));
 }

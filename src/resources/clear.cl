@@ -6,7 +6,7 @@
  * stores the compiler vectorizes. */
 
 /* Texels [first + 1, end) take texel first's bytes. */
-inline void copy_first_texel(int format, __global uchar* data, uint first, uint end) {
+static inline void copy_first_texel(int format, __global uchar* data, uint first, uint end) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
 #define CLR_COPY_TEXEL(T)                                                   \
   {                                                                         \

@@ -1,7 +1,7 @@
 /* index_range.cl: the largest index in a range of an index buffer, so that a draw can be refused
  * before it renders anything when it references a vertex that does not exist. */
 
-inline uint fetch_index(__global const uchar* indices, int index_size, uint position) {
+static inline uint fetch_index(__global const uchar* indices, int index_size, uint position) {
   if (index_size == 2) return ((__global const ushort*)indices)[position];
   return ((__global const uint*)indices)[position];
 }

@@ -6,7 +6,7 @@
  * Triangle ids: a primitive's own record (setup.cl) is id = primitive index in the chunk; triangles
  * left by clipping are CLR_OVERFLOW_TRIANGLE | their index in the overflow records. */
 
-inline uint emit_tiles(__global const SetupTriangle* t, uint id, uint tiles_x, uint out, __global uint* tile_keys,
+static inline uint emit_tiles(__global const SetupTriangle* t, uint id, uint tiles_x, uint out, __global uint* tile_keys,
                        __global uint* triangle_ids) {
   const uint pixel_min = t->pixel_min;
   const uint pixel_max = t->pixel_max;

@@ -13,7 +13,7 @@ typedef struct {
 } ClipVertex;
 
 /* Signed distance of a clip-space position to plane `plane`: >= 0 inside. */
-inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_max) {
+static inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_max) {
   switch (plane) {
     case 0: return p.z + p.w;                 /* near */
     case 1: return p.w - p.z;                 /* far */
@@ -37,7 +37,7 @@ CLR_INLINE uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
 
 /* The point where segment inside -> outside crosses the plane. Always interpolated from the inside
  * end, so the two triangles that share an edge compute bit-identical points on it. */
-inline ClipVertex clip_intersect(const ClipVertex* inside, const ClipVertex* outside, float d_inside,
+static inline ClipVertex clip_intersect(const ClipVertex* inside, const ClipVertex* outside, float d_inside,
                                  float d_outside) {
   const float t = d_inside / (d_inside - d_outside);
   ClipVertex v;

@@ -32,7 +32,7 @@ CLR_INLINE bool project_position(float4 position, __constant const DrawUniforms*
 }
 
 /* project_position with the vertex's varyings. */
-inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
+static inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u, WindowVertex* out) {
   if (!project_position(v->position, u, out)) return false;
 #pragma unroll
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) out->varyings[k] = v->varyings[k];
@@ -40,13 +40,13 @@ inline bool project_vertex(const ClipVertex* v, __constant const DrawUniforms* u
 }
 
 /* Twice the signed area of the snapped triangle: positive when counter-clockwise (y up). */
-inline long double_area(int2 a, int2 b, int2 c) {
+static inline long double_area(int2 a, int2 b, int2 c) {
   return (long)(b.x - a.x) * (long)(c.y - a.y) - (long)(c.x - a.x) * (long)(b.y - a.y);
 }
 
 /* Pixels whose centres the snapped triangle's bounding box contains, clipped to the draw's
  * writable rectangle: [min.x, max.x] x [min.y, max.y], empty when min > max. */
-inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* u, int2* lo, int2* hi) {
+static inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* u, int2* lo, int2* hi) {
   const int2 fixed_min = min(a, min(b, c));
   const int2 fixed_max = max(a, max(b, c));
   /* Centre of pixel i is at i * ONE: the first centre >= min is ceil(min / ONE). */
@@ -57,20 +57,20 @@ inline void pixel_bounds(int2 a, int2 b, int2 c, __constant const DrawUniforms* 
 /* Whether a pixel centre exactly on the edge from a to b (counter-clockwise triangle, y up) belongs
  * to the triangle: yes for left edges (going down) and bottom edges (horizontal, going right). This
  * is llvmpipe's top-left rule seen in OpenGL's y-up window coordinates. */
-inline bool edge_includes_centres(int2 a, int2 b) {
+static inline bool edge_includes_centres(int2 a, int2 b) {
   const int dx = b.x - a.x;
   const int dy = b.y - a.y;
   return dy < 0 || (dy == 0 && dx > 0);
 }
 
 /* E(p) for the edge a -> b, positive left of it (inside a counter-clockwise triangle). */
-inline long edge_function(int2 a, int2 b, long px, long py) {
+static inline long edge_function(int2 a, int2 b, long px, long py) {
   return (long)(b.x - a.x) * (py - a.y) - (long)(b.y - a.y) * (px - a.x);
 }
 
 /* Whether the centre (px, py) is on the inner side of the edge from a to b of a counter-clockwise
  * triangle: E > 0, or E = 0 on an edge that includes its centres. */
-inline bool edge_covers_centre(int2 a, int2 b, long px, long py) {
+static inline bool edge_covers_centre(int2 a, int2 b, long px, long py) {
   const long e = edge_function(a, b, px, py);
   return e > 0 || (e == 0 && edge_includes_centres(a, b));
 }

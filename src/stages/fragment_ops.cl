@@ -268,10 +268,10 @@ CLR_INLINE clr_span_float mul_unorm8(clr_span_float a, clr_span_float b) {
 
 /* Whether f and g are one another's complement (ZERO and ONE, SRC_COLOR and ONE_MINUS_SRC_COLOR, ...),
  * and whether f is the plain one of its pair (ONE, SRC_COLOR, ...: what llvmpipe lists first). */
-inline bool complementary_factors(int f, int g) {
+static inline bool complementary_factors(int f, int g) {
   return f != g && f / 2 == g / 2 && f < CLR_FACTOR_SRC_ALPHA_SATURATE;
 }
-inline bool plain_factor(int f) { return f == CLR_FACTOR_ONE || (f % 2 == 0 && f != CLR_FACTOR_ZERO); }
+static inline bool plain_factor(int f) { return f == CLR_FACTOR_ONE || (f % 2 == 0 && f != CLR_FACTOR_ZERO); }
 
 /* llvmpipe (lp_build_blend) rewrites blends algebraically when the rgb and the alpha state each use
  * one factor on both sides, or the attachment has a single channel (`regroup`); the rewrites round
@@ -348,7 +348,7 @@ CLR_INLINE clr_span_float blend_equation(int equation, int source_factor_id, int
  * ZERO (SRC_ALPHA_SATURATE becomes ZERO for 8-bit formats only, where every rewrite it enables
  * gives the same result), and gives alpha the rgb equation and factors. The values do not change,
  * but the new factors decide llvmpipe's rewrites (regrouped_blend). */
-inline int factor_without_destination_alpha(int factor) {
+static inline int factor_without_destination_alpha(int factor) {
   switch (factor) {
     case CLR_FACTOR_DST_ALPHA: return CLR_FACTOR_ONE;
     case CLR_FACTOR_ONE_MINUS_DST_ALPHA: return CLR_FACTOR_ZERO;
@@ -356,7 +356,7 @@ inline int factor_without_destination_alpha(int factor) {
   }
 }
 
-inline bool ignores_factors(int equation) { return equation == CLR_BLEND_MIN || equation == CLR_BLEND_MAX; }
+static inline bool ignores_factors(int equation) { return equation == CLR_BLEND_MIN || equation == CLR_BLEND_MAX; }
 
 /* The rgb equation and factors on channels 0-2, the alpha ones on channel 3, for an attachment of
  * `channels` channels, into *blended. */
@@ -399,10 +399,10 @@ CLR_INLINE void clr_blend(BlendUniforms b, clr_span_color source, clr_span_color
   blend_colors(b, source, destination, constant_color, false, channels, blended);
 }
 
-inline bool is_constant_factor(int factor) {
+static inline bool is_constant_factor(int factor) {
   return factor >= CLR_FACTOR_CONSTANT_COLOR && factor <= CLR_FACTOR_ONE_MINUS_CONSTANT_ALPHA;
 }
-inline bool uses_constant_color(BlendUniforms b) {
+static inline bool uses_constant_color(BlendUniforms b) {
   return is_constant_factor(b.src_rgb) || is_constant_factor(b.dst_rgb) || is_constant_factor(b.src_alpha) ||
          is_constant_factor(b.dst_alpha);
 }

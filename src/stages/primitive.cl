@@ -10,14 +10,14 @@
  * rejected, clipped (clip.cl) or taken as the vertex stage projected and snapped it (fixed_point.cl),
  * and culls it. */
 
-inline uint3 primitive_stream_positions(int topology, uint p) {
+static inline uint3 primitive_stream_positions(int topology, uint p) {
   if (topology == CLR_TOPOLOGY_LIST) return (uint3)(3 * p, 3 * p + 1, 3 * p + 2);
   if (topology == CLR_TOPOLOGY_STRIP) return (p & 1) ? (uint3)(p + 1, p, p + 2) : (uint3)(p, p + 1, p + 2);
   return (uint3)(0, p + 1, p + 2);
 }
 
 /* Where the vertex stage put the vertex of a stream position (SlotMap, types.h; vertex.cl). */
-inline uint vertex_slot(uint position, const SlotMap* slots, __global const uchar* indices,
+static inline uint vertex_slot(uint position, const SlotMap* slots, __global const uchar* indices,
                         __constant const DrawUniforms* u) {
   if (slots->shade_all) {
     const uint element = u->first + position;
@@ -28,18 +28,18 @@ inline uint vertex_slot(uint position, const SlotMap* slots, __global const ucha
 }
 
 /* The vertex slots of primitive p's three vertices. */
-inline uint3 primitive_slots(uint p, const SlotMap* slots, __global const uchar* indices, __constant const DrawUniforms* u) {
+static inline uint3 primitive_slots(uint p, const SlotMap* slots, __global const uchar* indices, __constant const DrawUniforms* u) {
   const uint3 positions = primitive_stream_positions(u->topology, p);
   return (uint3)(vertex_slot(positions.x, slots, indices, u), vertex_slot(positions.y, slots, indices, u),
                  vertex_slot(positions.z, slots, indices, u));
 }
 
-inline __global const float4* shaded_slot(__global const float4* shaded, uint slot) {
+static inline __global const float4* shaded_slot(__global const float4* shaded, uint slot) {
   return shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
 }
 
 /* The union of the three vertices' clip codes (types.h) in .x, their intersection in .y. */
-inline uint2 primitive_codes(__global const float4* shaded, uint3 slots) {
+static inline uint2 primitive_codes(__global const float4* shaded, uint3 slots) {
   const uint c0 = as_uint(shaded_slot(shaded, slots.x)[CLR_SHADED_WINDOW + 1].z);
   const uint c1 = as_uint(shaded_slot(shaded, slots.y)[CLR_SHADED_WINDOW + 1].z);
   const uint c2 = as_uint(shaded_slot(shaded, slots.z)[CLR_SHADED_WINDOW + 1].z);
@@ -47,7 +47,7 @@ inline uint2 primitive_codes(__global const float4* shaded, uint3 slots) {
 }
 
 /* Flat varyings take the provoking vertex's value: the last one (GL_LAST_VERTEX_CONVENTION). */
-inline void take_provoking_flat_varyings(float* v0, float* v1, const float* v2) {
+static inline void take_provoking_flat_varyings(float* v0, float* v1, const float* v2) {
 #if CLR_HAS_FLAT_VARYINGS
 #pragma unroll
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) {
@@ -56,7 +56,7 @@ inline void take_provoking_flat_varyings(float* v0, float* v1, const float* v2) 
 #endif
 }
 
-inline void load_varyings(__global const float4* slot, float* varyings) {
+static inline void load_varyings(__global const float4* slot, float* varyings) {
   __global const float* in = (__global const float*)(slot + CLR_SHADED_VARYINGS);
 #pragma unroll
   for (int k = 0; k < CLR_NUM_VARYINGS; ++k) varyings[k] = in[k];

@@ -41,7 +41,7 @@
 #endif
 
 /* Lanes of `inside` (each 0 or -1) as the bits of a byte, lane 0 in bit 0. */
-inline uint lanes_to_bits(long8 inside) {
+static inline uint lanes_to_bits(long8 inside) {
   const ulong8 bits = as_ulong8(inside) & (ulong8)(1, 2, 4, 8, 16, 32, 64, 128);
   const ulong4 halves = bits.lo | bits.hi;
   const ulong2 quarters = halves.lo | halves.hi;
@@ -54,7 +54,7 @@ inline uint lanes_to_bits(long8 inside) {
  * E - 1 >= 0 in integers, so subtracting 1 from the edges without the flag makes the test a sign
  * test, and one sign test of the three values OR-ed together tests them all. Eight pixels of a row
  * at a time, in 64-bit vectors: exact, and what vector units (and PoCL's compiler) do best. */
-inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local ulong* mask) {
+static inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local ulong* mask) {
   for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) mask[w] = 0;
   const int2 lo = max((int2)((int)(t->pixel_min & 0xffffu), (int)(t->pixel_min >> 16)), origin);
   const int2 hi = min((int2)((int)(t->pixel_max & 0xffffu), (int)(t->pixel_max >> 16)), origin + (CLR_TILE_SIZE - 1));
@@ -105,7 +105,7 @@ inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local u
  * bits (all ones for a period of one). */
 #define CLR_SPAN_BITS ((1ul << CLR_SPAN_PIXELS) - 1)
 #define CLR_OWNER_PERIOD (CLR_RASTER_GROUP * CLR_SPAN_PIXELS)
-inline ulong own_pixels(uint word, uint item) {
+static inline ulong own_pixels(uint word, uint item) {
   const uint first = item * CLR_SPAN_PIXELS;
 #if CLR_OWNER_PERIOD >= 64
   return word == first / 64 ? CLR_SPAN_BITS << (first % 64) : 0ul;
@@ -114,17 +114,17 @@ inline ulong own_pixels(uint word, uint item) {
 #endif
 }
 
-inline bool is_normalized_format(int format) { return format <= CLR_FORMAT_SRGB8_A8; }
-inline bool is_integer_format(int format) { return format >= CLR_FORMAT_R32I && format <= CLR_FORMAT_RGBA32UI; }
-inline bool is_signed_integer_format(int format) { return format == CLR_FORMAT_R32I || format == CLR_FORMAT_RGBA32I; }
+static inline bool is_normalized_format(int format) { return format <= CLR_FORMAT_SRGB8_A8; }
+static inline bool is_integer_format(int format) { return format >= CLR_FORMAT_R32I && format <= CLR_FORMAT_RGBA32UI; }
+static inline bool is_signed_integer_format(int format) { return format == CLR_FORMAT_R32I || format == CLR_FORMAT_RGBA32I; }
 
 /* An attachment's pixel in the tile's representation (see above). */
-inline uint4 load_attachment_pixel(int format, __global const uchar* data, uint pixel) {
+static inline uint4 load_attachment_pixel(int format, __global const uchar* data, uint pixel) {
   if (is_signed_integer_format(format)) return as_uint4(clr_load_texel_int(format, data, pixel));
   if (is_integer_format(format)) return clr_load_texel_uint(format, data, pixel);
   return as_uint4(clr_load_texel_float(format, data, pixel));
 }
-inline void store_attachment_pixel(int format, __global uchar* data, uint pixel, uint4 value) {
+static inline void store_attachment_pixel(int format, __global uchar* data, uint pixel, uint4 value) {
   if (is_signed_integer_format(format)) clr_store_texel_int(format, data, pixel, as_int4(value));
   else if (is_integer_format(format)) clr_store_texel_uint(format, data, pixel, value);
   else clr_store_texel_float(format, data, pixel, as_float4(value));
@@ -132,20 +132,20 @@ inline void store_attachment_pixel(int format, __global uchar* data, uint pixel,
 
 /* Whether the pixel (x, y) is inside the rectangle r (x0, y0, x1, y1, exclusive), and whether the
  * whole span of pixels from (x, y) is. */
-inline bool inside_rect(int x, int y, int4 r) { return x >= r.x && x < r.z && y >= r.y && y < r.w; }
-inline bool whole_span_inside(int x, int y, int4 r) {
+static inline bool inside_rect(int x, int y, int4 r) { return x >= r.x && x < r.z && y >= r.y && y < r.w; }
+static inline bool whole_span_inside(int x, int y, int4 r) {
   return inside_rect(x, y, r) && inside_rect(x + CLR_SPAN_PIXELS - 1, y, r);
 }
 /* Whether the pixel (x, y) is inside the draw's clip rectangle (scissor and framebuffer), and whether
  * the whole span of pixels from (x, y) is. */
-inline bool writable(int x, int y, __constant const DrawUniforms* u) { return inside_rect(x, y, vload4(0, u->clip_rect)); }
-inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) {
+static inline bool writable(int x, int y, __constant const DrawUniforms* u) { return inside_rect(x, y, vload4(0, u->clip_rect)); }
+static inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) {
   return whole_span_inside(x, y, vload4(0, u->clip_rect));
 }
 
 /* The pixels of an attachment that the tile loads and stores: those of the clip rectangle, or every
  * pixel of the framebuffer for an attachment whose pending clear the pass writes (`clearing`). */
-inline int4 moved_rect(bool clearing, __constant const DrawUniforms* u) {
+static inline int4 moved_rect(bool clearing, __constant const DrawUniforms* u) {
   return clearing ? (int4)(0, 0, u->framebuffer_size[0], u->framebuffer_size[1]) : vload4(0, u->clip_rect);
 }
 
@@ -158,13 +158,13 @@ CLR_INLINE bool holds_bytes(int format, BlendUniforms b) {
   return !CLR_READS_FRAMEBUFFER && format == CLR_FORMAT_RGBA8 && b.enabled && b.rgb_equation != CLR_BLEND_PROGRAM &&
          b.alpha_equation != CLR_BLEND_PROGRAM;
 }
-inline bool tile_holds_bytes(__constant const DrawUniforms* u, uint target) {
+static inline bool tile_holds_bytes(__constant const DrawUniforms* u, uint target) {
   return holds_bytes(u->target_format[target], u->blend[target]);
 }
 
 /* Colour attachment `target`'s pixels once its pending clear is written, as load_attachment_pixel
  * gives them: the clear value as storing it into the attachment and loading it back gives it. */
-inline uint4 cleared_pixel(__constant const DrawUniforms* u, uint target) {
+static inline uint4 cleared_pixel(__constant const DrawUniforms* u, uint target) {
   const int format = u->target_format[target];
   const uint4 value = vload4(0, u->clear_color[target]);
   if (is_integer_format(format)) return clr_quantize_uint(format, value);

@@ -17,12 +17,12 @@
  * rounded to 8 bits were identical in all but one of 245760 channels, off by 1/255. */
 
 /* The non-premultiplied colour of a premultiplied one, black when alpha is 0. */
-inline float3 clr_khr_unpremultiply(float4 c) {
+static inline float3 clr_khr_unpremultiply(float4 c) {
   return c.w == 0.0f ? (float3)(0.0f) : c.xyz / c.w;
 }
 
 /* Combines f(Cs', Cd') with the uncorrelated coverages of source and destination. */
-inline float4 clr_khr_compose(float3 f, float3 cs, float3 cd, float as, float ad) {
+static inline float4 clr_khr_compose(float3 f, float3 cs, float3 cd, float as, float ad) {
   const float p0 = as * ad;
   const float p1 = as * (1.0f - ad);
   const float p2 = ad * (1.0f - as);
@@ -31,52 +31,52 @@ inline float4 clr_khr_compose(float3 f, float3 cs, float3 cd, float as, float ad
 
 /* ---- f(Cs, Cd) of table X.1, per channel of non-premultiplied colours -------------------------- */
 
-inline float3 clr_khr_multiply(float3 cs, float3 cd) { return cs * cd; }
+static inline float3 clr_khr_multiply(float3 cs, float3 cd) { return cs * cd; }
 
-inline float3 clr_khr_screen(float3 cs, float3 cd) { return cs + cd - cs * cd; }
+static inline float3 clr_khr_screen(float3 cs, float3 cd) { return cs + cd - cs * cd; }
 
-inline float3 clr_khr_overlay(float3 cs, float3 cd) {
+static inline float3 clr_khr_overlay(float3 cs, float3 cd) {
   return select(1.0f - 2.0f * (1.0f - cs) * (1.0f - cd), 2.0f * cs * cd, cd <= 0.5f);
 }
 
-inline float3 clr_khr_darken(float3 cs, float3 cd) { return fmin(cs, cd); }
+static inline float3 clr_khr_darken(float3 cs, float3 cd) { return fmin(cs, cd); }
 
-inline float3 clr_khr_lighten(float3 cs, float3 cd) { return fmax(cs, cd); }
+static inline float3 clr_khr_lighten(float3 cs, float3 cd) { return fmax(cs, cd); }
 
-inline float3 clr_khr_colordodge(float3 cs, float3 cd) {
+static inline float3 clr_khr_colordodge(float3 cs, float3 cd) {
   const float3 dodged = select((float3)(1.0f), fmin(cd / (1.0f - cs), 1.0f), cs < 1.0f);
   return select((float3)(0.0f), dodged, cd > 0.0f);
 }
 
-inline float3 clr_khr_colorburn(float3 cs, float3 cd) {
+static inline float3 clr_khr_colorburn(float3 cs, float3 cd) {
   const float3 burnt = select((float3)(0.0f), 1.0f - fmin((1.0f - cd) / cs, 1.0f), cs > 0.0f);
   return select((float3)(1.0f), burnt, cd < 1.0f);
 }
 
 /* HARDLIGHT is OVERLAY with the roles of source and destination swapped (both products are
  * symmetric; only the channel that picks the branch changes). */
-inline float3 clr_khr_hardlight(float3 cs, float3 cd) { return clr_khr_overlay(cd, cs); }
+static inline float3 clr_khr_hardlight(float3 cs, float3 cd) { return clr_khr_overlay(cd, cs); }
 
-inline float3 clr_khr_softlight(float3 cs, float3 cd) {
+static inline float3 clr_khr_softlight(float3 cs, float3 cd) {
   const float3 darker = cd - (1.0f - 2.0f * cs) * cd * (1.0f - cd);
   const float3 lighter_dark = cd + (2.0f * cs - 1.0f) * cd * ((16.0f * cd - 12.0f) * cd + 3.0f);
   const float3 lighter_bright = cd + (2.0f * cs - 1.0f) * (sqrt(cd) - cd);
   return select(select(lighter_bright, lighter_dark, cd <= 0.25f), darker, cs <= 0.5f);
 }
 
-inline float3 clr_khr_difference(float3 cs, float3 cd) { return fabs(cd - cs); }
+static inline float3 clr_khr_difference(float3 cs, float3 cd) { return fabs(cd - cs); }
 
-inline float3 clr_khr_exclusion(float3 cs, float3 cd) { return cs + cd - 2.0f * cs * cd; }
+static inline float3 clr_khr_exclusion(float3 cs, float3 cd) { return cs + cd - 2.0f * cs * cd; }
 
 /* ---- f(Cs, Cd) of table X.2: hue, saturation and luminosity, with the extension's helpers -------- */
 
-inline float clr_khr_min3(float3 c) { return fmin(fmin(c.x, c.y), c.z); }
-inline float clr_khr_max3(float3 c) { return fmax(fmax(c.x, c.y), c.z); }
-inline float clr_khr_lum(float3 c) { return dot(c, (float3)(0.30f, 0.59f, 0.11f)); }
-inline float clr_khr_sat(float3 c) { return clr_khr_max3(c) - clr_khr_min3(c); }
+static inline float clr_khr_min3(float3 c) { return fmin(fmin(c.x, c.y), c.z); }
+static inline float clr_khr_max3(float3 c) { return fmax(fmax(c.x, c.y), c.z); }
+static inline float clr_khr_lum(float3 c) { return dot(c, (float3)(0.30f, 0.59f, 0.11f)); }
+static inline float clr_khr_sat(float3 c) { return clr_khr_max3(c) - clr_khr_min3(c); }
 
 /* Pulls a colour with components outside [0, 1] back in range, keeping its luminosity. */
-inline float3 clr_khr_clip_color(float3 color) {
+static inline float3 clr_khr_clip_color(float3 color) {
   const float lum = clr_khr_lum(color);
   const float mincol = clr_khr_min3(color);
   const float maxcol = clr_khr_max3(color);
@@ -86,21 +86,21 @@ inline float3 clr_khr_clip_color(float3 color) {
 }
 
 /* `cbase` with the luminosity of `clum`. */
-inline float3 clr_khr_set_lum(float3 cbase, float3 clum) {
+static inline float3 clr_khr_set_lum(float3 cbase, float3 clum) {
   return clr_khr_clip_color(cbase + (clr_khr_lum(clum) - clr_khr_lum(cbase)));
 }
 
 /* `cbase` with the saturation of `csat`, then the luminosity of `clum`. */
-inline float3 clr_khr_set_lum_sat(float3 cbase, float3 csat, float3 clum) {
+static inline float3 clr_khr_set_lum_sat(float3 cbase, float3 csat, float3 clum) {
   const float sbase = clr_khr_sat(cbase);
   const float3 color = sbase > 0.0f ? (cbase - clr_khr_min3(cbase)) * clr_khr_sat(csat) / sbase : (float3)(0.0f);
   return clr_khr_set_lum(color, clum);
 }
 
-inline float3 clr_khr_hsl_hue(float3 cs, float3 cd) { return clr_khr_set_lum_sat(cs, cd, cd); }
-inline float3 clr_khr_hsl_saturation(float3 cs, float3 cd) { return clr_khr_set_lum_sat(cd, cs, cd); }
-inline float3 clr_khr_hsl_color(float3 cs, float3 cd) { return clr_khr_set_lum(cs, cd); }
-inline float3 clr_khr_hsl_luminosity(float3 cs, float3 cd) { return clr_khr_set_lum(cd, cs); }
+static inline float3 clr_khr_hsl_hue(float3 cs, float3 cd) { return clr_khr_set_lum_sat(cs, cd, cd); }
+static inline float3 clr_khr_hsl_saturation(float3 cs, float3 cd) { return clr_khr_set_lum_sat(cd, cs, cd); }
+static inline float3 clr_khr_hsl_color(float3 cs, float3 cd) { return clr_khr_set_lum(cs, cd); }
+static inline float3 clr_khr_hsl_luminosity(float3 cs, float3 cd) { return clr_khr_set_lum(cd, cs); }
 
 /* ---- The blend functions programs call -------------------------------------------------------------- */
 
