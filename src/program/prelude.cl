@@ -123,11 +123,11 @@ static inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv)
 
 /* ---- Vertex attributes (used by the generated fetch) ----------------------------------------------- */
 static inline __global const uchar* clr_attribute_element(__constant const AttributeDesc* d, __global const uchar* data,
-                                                   uint vertex, uint instance) {
+                                                          uint vertex, uint instance) {
   return data + d->offset + (ulong)(d->per_instance ? instance : vertex) * d->stride;
 }
 static inline float4 clr_fetch_float(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
-                              uint instance) {
+                                     uint instance) {
   float4 v = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
   __global const float* p = (__global const float*)clr_attribute_element(d, data, vertex, instance);
   if (d->components > 0) v.x = p[0];
@@ -136,7 +136,8 @@ static inline float4 clr_fetch_float(__constant const AttributeDesc* d, __global
   if (d->components > 3) v.w = p[3];
   return v;
 }
-static inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global const uchar* data, uint vertex, uint instance) {
+static inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
+                                 uint instance) {
   int4 v = (int4)(0, 0, 0, 1);
   __global const int* p = (__global const int*)clr_attribute_element(d, data, vertex, instance);
   if (d->components > 0) v.x = p[0];
@@ -146,6 +147,6 @@ static inline int4 clr_fetch_int(__constant const AttributeDesc* d, __global con
   return v;
 }
 static inline uint4 clr_fetch_uint(__constant const AttributeDesc* d, __global const uchar* data, uint vertex,
-                            uint instance) {
+                                   uint instance) {
   return as_uint4(clr_fetch_int(d, data, vertex, instance));
 }

@@ -6,8 +6,8 @@
  * Triangle ids: a primitive's own record (setup.cl) is id = primitive index in the chunk; triangles
  * left by clipping are CLR_OVERFLOW_TRIANGLE | their index in the overflow records. */
 
-static inline uint emit_tiles(__global const SetupTriangle* t, uint id, uint tiles_x, uint out, __global uint* tile_keys,
-                       __global uint* triangle_ids) {
+static inline uint emit_tiles(__global const SetupTriangle* t, uint id, uint tiles_x, uint out,
+                              __global uint* tile_keys, __global uint* triangle_ids) {
   const uint pixel_min = t->pixel_min;
   const uint pixel_max = t->pixel_max;
   for (uint ty = (pixel_min >> 16) / CLR_TILE_SIZE; ty <= (pixel_max >> 16) / CLR_TILE_SIZE; ++ty) {

@@ -38,7 +38,7 @@ CLR_INLINE uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
 /* The point where segment inside -> outside crosses the plane. Always interpolated from the inside
  * end, so the two triangles that share an edge compute bit-identical points on it. */
 static inline ClipVertex clip_intersect(const ClipVertex* inside, const ClipVertex* outside, float d_inside,
-                                 float d_outside) {
+                                        float d_outside) {
   const float t = d_inside / (d_inside - d_outside);
   ClipVertex v;
   v.position = inside->position + t * (outside->position - inside->position);

@@ -18,7 +18,7 @@ static inline uint3 primitive_stream_positions(int topology, uint p) {
 
 /* Where the vertex stage put the vertex of a stream position (SlotMap, types.h; vertex.cl). */
 static inline uint vertex_slot(uint position, const SlotMap* slots, __global const uchar* indices,
-                        __constant const DrawUniforms* u) {
+                               __constant const DrawUniforms* u) {
   if (slots->shade_all) {
     const uint element = u->first + position;
     return u->index_size ? fetch_index(indices, u->index_size, element) : element;
@@ -28,7 +28,8 @@ static inline uint vertex_slot(uint position, const SlotMap* slots, __global con
 }
 
 /* The vertex slots of primitive p's three vertices. */
-static inline uint3 primitive_slots(uint p, const SlotMap* slots, __global const uchar* indices, __constant const DrawUniforms* u) {
+static inline uint3 primitive_slots(uint p, const SlotMap* slots, __global const uchar* indices,
+                                    __constant const DrawUniforms* u) {
   const uint3 positions = primitive_stream_positions(u->topology, p);
   return (uint3)(vertex_slot(positions.x, slots, indices, u), vertex_slot(positions.y, slots, indices, u),
                  vertex_slot(positions.z, slots, indices, u));

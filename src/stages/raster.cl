@@ -116,7 +116,9 @@ static inline ulong own_pixels(uint word, uint item) {
 
 static inline bool is_normalized_format(int format) { return format <= CLR_FORMAT_SRGB8_A8; }
 static inline bool is_integer_format(int format) { return format >= CLR_FORMAT_R32I && format <= CLR_FORMAT_RGBA32UI; }
-static inline bool is_signed_integer_format(int format) { return format == CLR_FORMAT_R32I || format == CLR_FORMAT_RGBA32I; }
+static inline bool is_signed_integer_format(int format) {
+  return format == CLR_FORMAT_R32I || format == CLR_FORMAT_RGBA32I;
+}
 
 /* An attachment's pixel in the tile's representation (see above). */
 static inline uint4 load_attachment_pixel(int format, __global const uchar* data, uint pixel) {
@@ -138,7 +140,9 @@ static inline bool whole_span_inside(int x, int y, int4 r) {
 }
 /* Whether the pixel (x, y) is inside the draw's clip rectangle (scissor and framebuffer), and whether
  * the whole span of pixels from (x, y) is. */
-static inline bool writable(int x, int y, __constant const DrawUniforms* u) { return inside_rect(x, y, vload4(0, u->clip_rect)); }
+static inline bool writable(int x, int y, __constant const DrawUniforms* u) {
+  return inside_rect(x, y, vload4(0, u->clip_rect));
+}
 static inline bool whole_span_writable(int x, int y, __constant const DrawUniforms* u) {
   return whole_span_inside(x, y, vload4(0, u->clip_rect));
 }
@@ -359,8 +363,9 @@ CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, int x, int
      * 1/512 pixel over the distance to an edge, which perspective magnifies (1e-3 of the texture
      * coordinates near a horizon), and llvmpipe interpolates with the unsnapped ones. */
     const long e = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
-    const float unsnapped = (float)e + (t->edge_correction[k][0] * unsnapped_x + t->edge_correction[k][1] * unsnapped_y +
-                                        t->edge_correction[k][2]);
+    const float correction =
+        t->edge_correction[k][0] * unsnapped_x + t->edge_correction[k][1] * unsnapped_y + t->edge_correction[k][2];
+    const float unsnapped = (float)e + correction;
     const float at_grid = unsnapped * t->inv_double_area;
     const float per_pixel = ((float)t->edge_a[k] + t->edge_correction[k][0]) * (float)CLR_SUBPIXEL_ONE;
     const float step = per_pixel * t->inv_double_area;
