@@ -3,6 +3,9 @@
 // Quad shading: a program that takes derivatives is run in 2x2 quads, with helper invocations for
 // the uncovered pixels of each quad. Helpers only feed derivatives, so the pixels written and their
 // values must be exactly those of the same program shaded per pixel.
+//
+// Span programs: fragment_span computes what fragment would, for a span of pixels at once, so the
+// two must write the same bits.
 #include "io/procedural.hpp"
 #include "support/test_support.hpp"
 
@@ -53,6 +56,100 @@ TEST(QuadShading, WritesExactlyThePixelsAndValuesOfPerPixelShading) {
   ASSERT_FALSE(per_pixel.interface().uses_derivatives);
   ASSERT_TRUE(quads.interface().uses_derivatives);
   EXPECT_TRUE(images_match(render(quads, mesh), render(per_pixel, mesh), kExact));
+}
+
+// Every input a fragment program has, written out to float and integer attachments (full floats, so
+// that a value differing in its last bit, or taken from another lane, shows), by a per-fragment
+// program or by its span twin. w varies across each triangle, so that smooth and noperspective
+// varyings differ.
+std::string inputs_program(bool span) {
+  const std::string declarations = R"(
+clr_attribute(float3, position)
+clr_attribute(float3, normal)
+clr_varying(float3, normal)
+clr_varying_noperspective(float2, screen)
+clr_varying_flat(int, vertex)
+clr_uniform(float4, tint)
+clr_output(float4, shade)
+clr_output(float4, coordinates)
+clr_output(float4, weights)
+clr_output(uint4, ids)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.5f + 0.5f * v->in.position.z);
+  v->out.normal = v->in.normal;
+  v->out.screen = v->in.position.xy;
+  v->out.vertex = (int)v->vertex_id - 1000;
+}
+)";
+  if (!span) {
+    return declarations + R"(
+void fragment(clr_fragment* f) {
+  const float3 n = f->in.normal;
+  const float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  f->out.shade = (float4)(len > 0.0f ? n / len : (float3)(0.0f), f->in.screen.x * f->in.screen.y) * f->uniforms->tint;
+  f->out.coordinates = f->frag_coord;
+  f->out.weights = (float4)(f->barycentric, f->front_facing ? 1.0f : -1.0f);
+  f->out.ids = (uint4)(f->primitive_id, as_uint(f->in.vertex), as_uint(f->in.screen.y), 7u);
+}
+)";
+  }
+  return declarations + R"(
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float3 n = f->in.normal;
+  const clr_span_float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  const float4 tint = f->uniforms->tint;
+  f->out.shade.x = (len > 0.0f ? n.x / len : 0.0f) * tint.x;
+  f->out.shade.y = (len > 0.0f ? n.y / len : 0.0f) * tint.y;
+  f->out.shade.z = (len > 0.0f ? n.z / len : 0.0f) * tint.z;
+  f->out.shade.w = f->in.screen.x * f->in.screen.y * tint.w;
+  f->out.coordinates = f->frag_coord;
+  f->out.weights.x = f->barycentric.x;
+  f->out.weights.y = f->barycentric.y;
+  f->out.weights.z = f->barycentric.z;
+  f->out.weights.w = f->front_facing ? 1.0f : -1.0f;
+  f->out.ids.x = f->primitive_id;
+  f->out.ids.y = CLR_SPAN_AS(uint, f->in.vertex);
+  f->out.ids.z = CLR_SPAN_AS(uint, f->in.screen.y);
+  f->out.ids.w = 7u;
+}
+)";
+}
+
+// The bytes of each of the program's four attachments after drawing `mesh` with it.
+std::vector<std::vector<std::byte>> render_inputs(Context& context, const Program& program, const io::Mesh& mesh) {
+  const Buffer positions(context, mesh.positions), normals(context, mesh.normals);
+  const IndexBuffer indices(context, mesh.indices);
+  Texture shade(context, 61, 47, Format::RGBA32F), coordinates(context, 61, 47, Format::RGBA32F),
+      weights(context, 61, 47, Format::RGBA32F), ids(context, 61, 47, Format::RGBA32UI),
+      depth(context, 61, 47, Format::Depth32F);
+  Framebuffer target(context, {&shade, &coordinates, &weights, &ids}, &depth);
+  target.clear({0.0f, 0.0f, 0.0f, 0.0f}, 1.0f);
+  Bindings bindings(program);
+  bindings.set("tint", std::array<float, 4>{0.5f, 2.0f, -1.0f, 3.0f});
+  DrawCall call;
+  call.program = &program;
+  call.bindings = &bindings;
+  call.attributes = {{"position", &positions, AttributeType::Float3}, {"normal", &normals, AttributeType::Float3}};
+  call.indices = &indices;
+  target.draw(call);
+  return {shade.read(), coordinates.read(), weights.read(), ids.read()};
+}
+
+TEST(SpanPrograms, WriteTheBitsOfTheirPerFragmentTwinInEveryShape) {
+  const io::Mesh mesh = io::make_random_triangles(600, 11, {-1, -1, -1}, {1, 1, 1}, 0.6f);
+  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
+    const Program per_fragment(*context, inputs_program(false), "per_fragment.cl");
+    const Program per_span(*context, inputs_program(true), "per_span.cl");
+    ASSERT_FALSE(per_fragment.interface().has_fragment_span);
+    ASSERT_TRUE(per_span.interface().has_fragment_span);
+    const auto expected = render_inputs(*context, per_fragment, mesh);
+    const auto result = render_inputs(*context, per_span, mesh);
+    // Drawn: most pixels have a triangle (their ids' last word is 7, not the clear's 0).
+    std::size_t drawn = 0;
+    for (std::size_t i = 12; i < expected[3].size(); i += 16) drawn += expected[3][i] == std::byte{7};
+    EXPECT_GT(drawn, 61u * 47u / 2);
+    for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(expected[k] == result[k]) << "attachment " << k;
+  }
 }
 
 // A depth-only pass (a shadow map's): a program with no outputs writes depth and leaves any colour

@@ -119,6 +119,28 @@ void fragment(clr_fragment* f) {
   EXPECT_TRUE(p.writes_depth);
 }
 
+TEST(ProgramInterface, FindsASpanProgramAndRejectsWhatNeedsOneFragment) {
+  const char* const vertex = "void vertex(clr_vertex* v) {}\n";
+  const program::ParsedProgram p = parse_program(std::string(vertex) + "void fragment_span(clr_span_fragment* f) {}\n", "user.cl");
+  EXPECT_TRUE(p.interface.has_fragment_span);
+  EXPECT_FALSE(parse_program(with_entry_points(""), "user.cl").interface.has_fragment_span);
+  EXPECT_EQ(parse_error(std::string(vertex) + "void fragment(clr_fragment* f) {}\nvoid fragment_span(clr_span_fragment* f) {}\n"),
+            "user.cl:1: the program defines both void fragment(...) and void fragment_span(...): one fragment program, "
+            "per fragment or per span");
+  const std::string span_program = std::string(vertex) + "void fragment_span(clr_span_fragment* f) {\n";
+  const std::string advice = " needs a per-fragment program: a program with fragment_span cannot use it (write void "
+                             "fragment(clr_fragment* f) instead)";
+  EXPECT_EQ(parse_error(span_program + "  clr_discard(f);\n}\n"), "user.cl:3: clr_discard" + advice);
+  EXPECT_EQ(parse_error(span_program + "\n  f->frag_depth = 0.5f;\n}\n"), "user.cl:4: frag_depth" + advice);
+  EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_dfdx(f, f->in.x);\n}\n"), "user.cl:3: clr_dfdx" + advice);
+  EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_framebuffer_fetch(f, 0);\n}\n"),
+            "user.cl:3: clr_framebuffer_fetch" + advice);
+  EXPECT_EQ(parse_error(span_program + "}\nfloat4  blend(clr_fragment* f, uint t, float4 s, float4 d) { return s; }\n"),
+            "user.cl:4: float4 blend" + advice);
+  EXPECT_EQ(parse_error(span_program + "}\nbool depth_test(clr_fragment* f, float a, float b) { return a < b; }\n"),
+            "user.cl:4: bool depth_test" + advice);
+}
+
 TEST(ProgramInterface, MalformedDeclarationsNameFileLineAndProblem) {
   EXPECT_EQ(parse_error(with_entry_points("\n\nclr_uniform(vec3, light)\n")),
             "user.cl:3: uniform type 'vec3' is not a float, int or uint vector (1, 2, 3, 4, 8 or 16 components)");
@@ -135,7 +157,8 @@ TEST(ProgramInterface, MalformedDeclarationsNameFileLineAndProblem) {
   EXPECT_EQ(parse_error("void fragment(clr_fragment* f) {}\n"),
             "user.cl:1: the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
   EXPECT_EQ(parse_error("void vertex(clr_vertex* v) {}\n"),
-            "user.cl:1: the program defines no fragment program: void fragment(clr_fragment* f) { ... }");
+            "user.cl:1: the program defines no fragment program: void fragment(clr_fragment* f) { ... } (or void "
+            "fragment_span(clr_span_fragment* f) { ... })");
   EXPECT_EQ(parse_error("void vertex(clr_vertex* v) { clr_uniform(float, x) }\nvoid fragment(clr_fragment* f) {}"),
             "user.cl:1: clr_uniform must be declared at file scope, outside any function");
   std::string nine_outputs;

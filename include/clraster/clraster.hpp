@@ -333,6 +333,7 @@ struct ProgramInterface {
   bool has_depth_test = false;           // defines bool depth_test(...)
   bool has_blend = false;                // defines float4 blend(...)
   bool uses_derivatives = false;         // shaded in 2x2 quads
+  bool has_fragment_span = false;        // its fragment program is void fragment_span(...), a span at a time
 };
 
 class Program {

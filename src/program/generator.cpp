@@ -21,6 +21,9 @@ std::string component(const std::string& access, int components, int c) {
 
 constexpr const char* kInterfaceName = "<clraster generated interface>";
 
+// The span program's type of a value of `type` (float3 -> clr_span_float3, fragment_ops.cl).
+std::string span_type(const std::string& type) { return "clr_span_" + type; }
+
 // A member of a generated struct that the user declared, and the declaration's line.
 struct Member {
   std::string text;  // "type name"
@@ -64,7 +67,8 @@ void emit_constants(std::ostringstream& out, const ParsedProgram& p) {
       << "#define CLR_EARLY_TESTS " << (early_fragment_tests(p) ? 1 : 0) << "\n"
       << "#define CLR_READS_FRAMEBUFFER " << (p.reads_framebuffer ? 1 : 0) << "\n"
       << "#define CLR_PROGRAM_DEPTH_TEST " << (in.has_depth_test ? 1 : 0) << "\n"
-      << "#define CLR_PROGRAM_BLEND " << (in.has_blend ? 1 : 0) << "\n";
+      << "#define CLR_PROGRAM_BLEND " << (in.has_blend ? 1 : 0) << "\n"
+      << "#define CLR_SPAN_PROGRAM " << (in.has_fragment_span ? 1 : 0) << "\n";
   bool flat = false;
   for (const Interpolation mode : p.varying_floats) flat = flat || mode == Interpolation::Flat;
   out << "#define CLR_HAS_FLAT_VARYINGS " << (flat ? 1 : 0) << "\n";
@@ -94,6 +98,13 @@ void emit_interface(InterfaceWriter& w, const ParsedProgram& p) {
   members.clear();
   for (const ProgramVariable& o : in.outputs) members.push_back({o.type + " " + o.name, o.line});
   emit_struct(w, "clr_outputs", members);
+  // A span program's inputs and outputs: a span vector per component (fragment_ops.cl).
+  members.clear();
+  for (const ProgramVariable& v : in.varyings) members.push_back({span_type(v.type) + " " + v.name, v.line});
+  emit_struct(w, "clr_span_varyings", members);
+  members.clear();
+  for (const ProgramVariable& o : in.outputs) members.push_back({span_type(o.type) + " " + o.name, o.line});
+  emit_struct(w, "clr_span_program_outputs", members);
 
   std::ostringstream& out = w.out;
   out << "/* The outputs of a span of fragments (raster.cl): floats as colours, integers as their bits. */\n"
@@ -136,6 +147,21 @@ typedef struct {
   uint clr_lane;                   /* this pixel's work-item in the tile */
 } clr_fragment;
 
+/* What a span program reads and writes: the fragments of a span of pixels of a row, one vector
+ * lane per pixel (docs/programs.md). */
+typedef struct {
+  clr_span_varyings in;
+  clr_span_float4 frag_coord;  /* as clr_fragment's, lane by lane */
+  clr_span_float3 barycentric;
+  clr_span_int written;        /* the lanes whose fragments passed the tests; the others are thrown away */
+  uint primitive_id;
+  bool front_facing;
+  clr_span_program_outputs out; /* out: one value per colour attachment */
+  __constant const clr_uniforms* uniforms;
+  clr_textures textures;
+  clr_buffers buffers;
+} clr_span_fragment;
+
 /* Defined by the generated glue at the end of the program. */
 void clr_store_varyings(const clr_varyings* v, __global float* out);
 CLR_INLINE void clr_lane_varyings(const __local SetupTriangle* t, const clr_span_float* values, int lane, clr_varyings* v);
@@ -146,6 +172,8 @@ bool clr_program_depth_test(clr_fragment* f, float fragment_depth, float stored_
 float4 clr_program_blend(clr_fragment* f, uint target, float4 source, float4 destination);
 #endif
 CLR_INLINE void clr_gather_outputs(const clr_fragment* f, int lane, clr_span_outputs* outputs);
+CLR_INLINE void clr_span_program_inputs(const __local SetupTriangle* t, const clr_span_float* values, clr_span_varyings* v);
+CLR_INLINE void clr_span_program_results(const clr_span_program_outputs* out, clr_span_outputs* outputs);
 CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,
                                   __local uint* tile, uint first_pixel, __constant const DrawUniforms* u);
 
@@ -224,6 +252,35 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
       }
     }
     out << (vector.components > 1 ? ");\n" : ";\n");
+  }
+  out << "}\n\n";
+
+  out << "/* A span program's varyings from the span's interpolated floats `values` (raster.cl). */\n"
+      << "CLR_INLINE void clr_span_program_inputs(const __local SetupTriangle* t, const clr_span_float* values, "
+         "clr_span_varyings* v) {\n";
+  for (const ProgramVariable& v : in.varyings) {
+    const VectorType vector = vector_type(v.type);
+    for (int c = 0; c < vector.components; ++c) {
+      const std::size_t j = v.offset + static_cast<std::size_t>(c);
+      const std::string member = "v->" + v.name + (vector.components == 1 ? "" : std::string(".") + "xyzw"[c]);
+      if (v.interpolation == "flat") {
+        const std::string value = "t->varyings[0][" + std::to_string(j) + "]";
+        out << "  " << member << " = (" << span_type(vector.scalar) << ")("
+            << (vector.scalar == "float" ? value : "as_" + vector.scalar + "(" + value + ")") << ");\n";
+      } else {
+        out << "  " << member << " = values[" << j << "];\n";
+      }
+    }
+  }
+  out << "}\n\n"
+      << "/* A span program's outputs as the merge takes them: colours, and integers as their bits. */\n"
+      << "CLR_INLINE void clr_span_program_results(const clr_span_program_outputs* out, clr_span_outputs* outputs) {\n";
+  for (const ProgramVariable& o : in.outputs) {
+    for (int c = 0; c < 4; ++c) {
+      const std::string value = "out->" + o.name + "." + "xyzw"[c];
+      out << "  outputs->" << o.name << ".c[" << c << "] = "
+          << (o.type == "float4" ? value : "CLR_SPAN_AS(uint, " + value + ")") << ";\n";
+    }
   }
   out << "}\n\n";
 

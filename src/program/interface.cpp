@@ -82,12 +82,31 @@ class Parser {
     p.writes_depth = mentions("frag_depth");
     p.reads_framebuffer = mentions("clr_framebuffer_fetch") || mentions("clr_framebuffer_fetch_int") ||
                           mentions("clr_framebuffer_fetch_uint");
+    if (p.interface.has_fragment_span) check_span_program();
     return p;
   }
 
  private:
   [[noreturn]] void fail(int line, const std::string& message) const {
     throw InvalidArgument(file_ + ":" + std::to_string(line) + ": " + message);
+  }
+
+  // A span program runs the rasterizer's early tests first and takes no fragment of its own, so
+  // what needs one fragment at a time (clr_fragment's functions) or late tests is the per-fragment
+  // program's alone.
+  void check_span_program() const {
+    static const std::regex per_fragment_only(
+        "\\b(clr_discard|frag_depth|clr_dfdx|clr_dfdy|clr_dfdx_fine|clr_dfdy_fine|clr_dfdx_coarse|clr_dfdy_coarse|"
+        "clr_fwidth|clr_sample|clr_framebuffer_fetch|clr_framebuffer_fetch_int|clr_framebuffer_fetch_uint)\\b");
+    static const std::regex per_fragment_function("\\b(bool\\s+depth_test|float4\\s+blend)\\s*\\(");
+    std::smatch match;
+    if (std::regex_search(code_, match, per_fragment_only) ||
+        ((result_.interface.has_depth_test || result_.interface.has_blend) &&
+         std::regex_search(code_, match, per_fragment_function))) {
+      fail(line_of(static_cast<std::size_t>(match.position())),
+           normalize_spaces(match[1].str()) + " needs a per-fragment program: a program with fragment_span cannot "
+                                              "use it (write void fragment(clr_fragment* f) instead)");
+    }
   }
 
   int line_of(std::size_t position) const {
@@ -239,9 +258,17 @@ class Parser {
     if (!defines("\\bvoid\\s+vertex\\s*\\([^)]*\\)\\s*\\{")) {
       fail(1, "the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
     }
-    if (!defines("\\bvoid\\s+fragment\\s*\\([^)]*\\)\\s*\\{")) {
-      fail(1, "the program defines no fragment program: void fragment(clr_fragment* f) { ... }");
+    const bool per_fragment = defines("\\bvoid\\s+fragment\\s*\\([^)]*\\)\\s*\\{");
+    const bool per_span = defines("\\bvoid\\s+fragment_span\\s*\\([^)]*\\)\\s*\\{");
+    if (!per_fragment && !per_span) {
+      fail(1, "the program defines no fragment program: void fragment(clr_fragment* f) { ... } (or void "
+              "fragment_span(clr_span_fragment* f) { ... })");
     }
+    if (per_fragment && per_span) {
+      fail(1, "the program defines both void fragment(...) and void fragment_span(...): one fragment program, per "
+              "fragment or per span");
+    }
+    result_.interface.has_fragment_span = per_span;
     result_.interface.has_depth_test = defines("\\bbool\\s+depth_test\\s*\\([^)]*\\)\\s*\\{");
     result_.interface.has_blend = defines("\\bfloat4\\s+blend\\s*\\([^)]*\\)\\s*\\{");
   }

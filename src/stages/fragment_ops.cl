@@ -73,6 +73,17 @@ typedef CLR_SPAN(int) clr_span_int;
 typedef CLR_SPAN(uint) clr_span_uint;
 typedef CLR_SPAN(long) clr_span_long;
 
+/* A span of 2- to 4-component values, one span vector per component: what span programs
+ * (fragment_span, docs/programs.md) compute with, where a per-fragment program has float3. */
+#define CLR_SPAN_VECTOR_TYPES(scalar)                                   \
+  typedef struct { clr_span_##scalar x, y; } clr_span_##scalar##2;       \
+  typedef struct { clr_span_##scalar x, y, z; } clr_span_##scalar##3;    \
+  typedef struct { clr_span_##scalar x, y, z, w; } clr_span_##scalar##4;
+CLR_SPAN_VECTOR_TYPES(float)
+CLR_SPAN_VECTOR_TYPES(int)
+CLR_SPAN_VECTOR_TYPES(uint)
+#undef CLR_SPAN_VECTOR_TYPES
+
 /* A span's colours as floats, and the same as the bits a tile holds (raster.cl). */
 typedef struct {
   clr_span_float c[4];

@@ -9,4 +9,10 @@ clr_output(float4, color)
 
 void vertex(clr_vertex* v) { v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f)); }
 
-void fragment(clr_fragment* f) { f->out.color = f->uniforms->base_color; }
+void fragment_span(clr_span_fragment* f) {
+  const float4 base = f->uniforms->base_color;
+  f->out.color.x = base.x;
+  f->out.color.y = base.y;
+  f->out.color.z = base.z;
+  f->out.color.w = base.w;
+}

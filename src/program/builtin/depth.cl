@@ -15,8 +15,11 @@ void vertex(clr_vertex* v) {
   v->out.view_distance = -clr_mul(v->uniforms->model_view, p).z;
 }
 
-void fragment(clr_fragment* f) {
+void fragment_span(clr_span_fragment* f) {
   const float2 range = f->uniforms->depth_range;
-  const float g = clamp(1.0f - (f->in.view_distance - range.x) / (range.y - range.x), 0.0f, 1.0f);
-  f->out.color = (float4)(g, g, g, 1.0f);
+  const clr_span_float g = clamp(1.0f - (f->in.view_distance - range.x) / (range.y - range.x), 0.0f, 1.0f);
+  f->out.color.x = g;
+  f->out.color.y = g;
+  f->out.color.z = g;
+  f->out.color.w = 1.0f;
 }

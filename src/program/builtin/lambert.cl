@@ -14,10 +14,13 @@ void vertex(clr_vertex* v) {
   v->out.eye_normal = clr_mul3(v->uniforms->normal_matrix, v->in.normal);
 }
 
-void fragment(clr_fragment* f) {
-  const float3 n = f->in.eye_normal;
-  const float len = sqrt(dot(n, n));
-  const float k = 0.1f + 0.9f * (len > 0.0f ? fabs(n.z / len) : 0.0f);
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float3 n = f->in.eye_normal;
+  const clr_span_float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  const clr_span_float k = 0.1f + 0.9f * (len > 0.0f ? fabs(n.z / len) : 0.0f);
   const float4 base = f->uniforms->base_color;
-  f->out.color = (float4)(base.xyz * k, base.w);
+  f->out.color.x = base.x * k;
+  f->out.color.y = base.y * k;
+  f->out.color.z = base.z * k;
+  f->out.color.w = base.w;
 }

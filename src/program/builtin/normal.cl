@@ -14,9 +14,13 @@ void vertex(clr_vertex* v) {
 }
 
 /* The normal as a colour: n / |n| * 0.5 + 0.5, mid-grey where it has no length. |n| as GLSL's
- * length() defines it, sqrt(dot(n, n)), which the OpenGL renderer computes too. */
-void fragment(clr_fragment* f) {
-  const float3 n = f->in.object_normal;
-  const float len = sqrt(dot(n, n));
-  f->out.color = (float4)(len > 0.0f ? n / len * 0.5f + 0.5f : (float3)(0.5f), 1.0f);
+ * length() defines it, sqrt(dot(n, n)), which the OpenGL renderer computes too. A span program (as
+ * the other built-in ones): a span's pixels at once, one vector lane each. */
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float3 n = f->in.object_normal;
+  const clr_span_float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  f->out.color.x = len > 0.0f ? n.x / len * 0.5f + 0.5f : 0.5f;
+  f->out.color.y = len > 0.0f ? n.y / len * 0.5f + 0.5f : 0.5f;
+  f->out.color.z = len > 0.0f ? n.z / len * 0.5f + 0.5f : 0.5f;
+  f->out.color.w = 1.0f;
 }
