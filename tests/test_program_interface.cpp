@@ -120,20 +120,21 @@ void fragment(clr_fragment* f) {
 }
 
 TEST(ProgramInterface, FindsASpanProgramAndRejectsWhatNeedsOneFragment) {
-  const char* const vertex = "void vertex(clr_vertex* v) {}\n";
-  const program::ParsedProgram p = parse_program(std::string(vertex) + "void fragment_span(clr_span_fragment* f) {}\n", "user.cl");
-  EXPECT_TRUE(p.interface.has_fragment_span);
+  const std::string vertex = "void vertex(clr_vertex* v) {}\n";
+  const std::string per_span = "void fragment_span(clr_span_fragment* f) {}\n";
+  EXPECT_TRUE(parse_program(vertex + per_span, "user.cl").interface.has_fragment_span);
   EXPECT_FALSE(parse_program(with_entry_points(""), "user.cl").interface.has_fragment_span);
-  EXPECT_EQ(parse_error(std::string(vertex) + "void fragment(clr_fragment* f) {}\nvoid fragment_span(clr_span_fragment* f) {}\n"),
+  EXPECT_EQ(parse_error(vertex + "void fragment(clr_fragment* f) {}\n" + per_span),
             "user.cl:1: the program defines both void fragment(...) and void fragment_span(...): one fragment program, "
             "per fragment or per span");
-  const std::string span_program = std::string(vertex) + "void fragment_span(clr_span_fragment* f) {\n";
+  const std::string span_program = vertex + "void fragment_span(clr_span_fragment* f) {\n";
   const std::string advice = " needs a per-fragment program: a program with fragment_span cannot use it (write void "
                              "fragment(clr_fragment* f) instead)";
   EXPECT_EQ(parse_error(span_program + "  clr_discard(f);\n}\n"), "user.cl:3: clr_discard" + advice);
   EXPECT_EQ(parse_error(span_program + "\n  f->frag_depth = 0.5f;\n}\n"), "user.cl:4: frag_depth" + advice);
   EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_dfdx(f, f->in.x);\n}\n"), "user.cl:3: clr_dfdx" + advice);
-  EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_framebuffer_fetch(f, 0);\n}\n"),
+  // The first use is the one named.
+  EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_framebuffer_fetch(f, 0);\n  clr_discard(f);\n}\n"),
             "user.cl:3: clr_framebuffer_fetch" + advice);
   EXPECT_EQ(parse_error(span_program + "}\nfloat4  blend(clr_fragment* f, uint t, float4 s, float4 d) { return s; }\n"),
             "user.cl:4: float4 blend" + advice);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <initializer_list>
 #include <map>
 #include <regex>
 #include <set>
@@ -74,15 +75,32 @@ class Parser {
     scan_declarations();
     find_entry_points();
     ParsedProgram& p = result_;
-    const auto mentions = [&](const char* token) { return std::regex_search(code_, std::regex(std::string("\\b") + token + "\\b")); };
-    p.interface.uses_derivatives = mentions("clr_dfdx") || mentions("clr_dfdy") || mentions("clr_dfdx_fine") ||
-                                   mentions("clr_dfdy_fine") || mentions("clr_dfdx_coarse") ||
-                                   mentions("clr_dfdy_coarse") || mentions("clr_fwidth") || mentions("clr_sample");
-    p.may_discard = mentions("clr_discard");
-    p.writes_depth = mentions("frag_depth");
-    p.reads_framebuffer = mentions("clr_framebuffer_fetch") || mentions("clr_framebuffer_fetch_int") ||
-                          mentions("clr_framebuffer_fetch_uint");
-    if (p.interface.has_fragment_span) check_span_program();
+    const Mention derivative = first_mention({"clr_dfdx", "clr_dfdy", "clr_dfdx_fine", "clr_dfdy_fine",
+                                              "clr_dfdx_coarse", "clr_dfdy_coarse", "clr_fwidth", "clr_sample"});
+    const Mention discard = first_mention({"clr_discard"});
+    const Mention depth_write = first_mention({"frag_depth"});
+    const Mention fetch =
+        first_mention({"clr_framebuffer_fetch", "clr_framebuffer_fetch_int", "clr_framebuffer_fetch_uint"});
+    p.interface.uses_derivatives = derivative.found();
+    p.may_discard = discard.found();
+    p.writes_depth = depth_write.found();
+    p.reads_framebuffer = fetch.found();
+    // A span program runs after the rasterizer's early tests and has no fragment of its own: what
+    // needs one fragment at a time, or late tests, belongs to per-fragment programs.
+    if (p.interface.has_fragment_span) {
+      static const std::regex per_fragment_function("\\b(bool\\s+depth_test|float4\\s+blend)\\s*\\(");
+      std::smatch function;
+      Mention first = std::min({derivative, discard, depth_write, fetch});
+      const bool defines_function = p.interface.has_depth_test || p.interface.has_blend;
+      if (defines_function && std::regex_search(code_, function, per_fragment_function) &&
+          static_cast<std::size_t>(function.position()) < first.position) {
+        first = {static_cast<std::size_t>(function.position()), normalize_spaces(function[1].str())};
+      }
+      if (first.found()) {
+        fail(line_of(first.position), first.name + " needs a per-fragment program: a program with fragment_span "
+                                                    "cannot use it (write void fragment(clr_fragment* f) instead)");
+      }
+    }
     return p;
   }
 
@@ -91,22 +109,19 @@ class Parser {
     throw InvalidArgument(file_ + ":" + std::to_string(line) + ": " + message);
   }
 
-  // A span program runs the rasterizer's early tests first and takes no fragment of its own, so
-  // what needs one fragment at a time (clr_fragment's functions) or late tests is the per-fragment
-  // program's alone.
-  void check_span_program() const {
-    static const std::regex per_fragment_only(
-        "\\b(clr_discard|frag_depth|clr_dfdx|clr_dfdy|clr_dfdx_fine|clr_dfdy_fine|clr_dfdx_coarse|clr_dfdy_coarse|"
-        "clr_fwidth|clr_sample|clr_framebuffer_fetch|clr_framebuffer_fetch_int|clr_framebuffer_fetch_uint)\\b");
-    static const std::regex per_fragment_function("\\b(bool\\s+depth_test|float4\\s+blend)\\s*\\(");
+  // Where the code first mentions one of `names` as a word, and which.
+  struct Mention {
+    std::size_t position = std::string::npos;
+    std::string name;
+    bool found() const { return position != std::string::npos; }
+    bool operator<(const Mention& other) const { return position < other.position; }
+  };
+  Mention first_mention(std::initializer_list<const char*> names) const {
+    std::string alternatives;
+    for (const char* name : names) alternatives += (alternatives.empty() ? "" : "|") + std::string(name);
     std::smatch match;
-    if (std::regex_search(code_, match, per_fragment_only) ||
-        ((result_.interface.has_depth_test || result_.interface.has_blend) &&
-         std::regex_search(code_, match, per_fragment_function))) {
-      fail(line_of(static_cast<std::size_t>(match.position())),
-           normalize_spaces(match[1].str()) + " needs a per-fragment program: a program with fragment_span cannot "
-                                              "use it (write void fragment(clr_fragment* f) instead)");
-    }
+    if (!std::regex_search(code_, match, std::regex("\\b(" + alternatives + ")\\b"))) return {};
+    return {static_cast<std::size_t>(match.position()), match[1].str()};
   }
 
   int line_of(std::size_t position) const {
