@@ -92,4 +92,9 @@
 #define CLR_BUFFER_GROWTH_NUM 3              /* scratch buffers grow by 3/2 when too small */
 #define CLR_BUFFER_GROWTH_DEN 2
 
+/* ---- Program cache -------------------------------------------------------------------------------
+ * The on-disk cache of built programs (cl/program_cache.cpp) keeps at most this many MiB; beyond it,
+ * the entries used longest ago go first. A program's binary takes about 1 MiB. */
+#define CLR_PROGRAM_CACHE_MIB 512
+
 #endif /* CLRASTER_LIMITS_H */

@@ -105,7 +105,7 @@ struct ContextOptions {
   int tile_size = kDefaultTileSize;
   // Where built program binaries are kept between runs. Empty: $CLRASTER_CACHE_DIR, else
   // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" (here or in $CLRASTER_CACHE_DIR)
-  // disables the on-disk cache.
+  // disables the on-disk cache. It keeps at most 512 MiB, removing the least recently used first.
   std::string cache_dir;
   // Measure each pipeline stage's device time (DrawStats::stage_times). Costs a little per command.
   bool profile = false;

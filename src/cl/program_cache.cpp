@@ -1,11 +1,13 @@
 #include "cl/program_cache.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
+#include <vector>
 
 namespace clraster::cl_host {
 namespace {
@@ -41,8 +43,9 @@ bool read_u64(std::istream& in, std::uint64_t& value) {
 
 }  // namespace
 
-ProgramCache::ProgramCache(cl::Context context, Device device, const std::string& cache_dir)
-    : context_(std::move(context)), device_(std::move(device)) {
+ProgramCache::ProgramCache(cl::Context context, Device device, const std::string& cache_dir,
+                           std::uintmax_t limit_bytes)
+    : context_(std::move(context)), device_(std::move(device)), limit_bytes_(limit_bytes) {
   directory_ = cache_dir.empty() ? default_cache_directory() : std::filesystem::path(cache_dir);
   if (directory_ == "off") directory_.clear();
 }
@@ -83,7 +86,8 @@ cl::Program ProgramCache::build_from_source(const std::string& name, const std::
 // A cached binary that is missing, truncated, for another key or rejected by the driver is simply
 // rebuilt from source: the cache only ever saves time.
 cl::Program ProgramCache::load_binary(const std::string& key, const std::string& options) {
-  std::ifstream in(entry_path(key), std::ios::binary);
+  const std::filesystem::path path = entry_path(key);
+  std::ifstream in(path, std::ios::binary);
   if (!in) return {};
   std::string magic(sizeof kMagic - 1, '\0');
   std::uint64_t key_size = 0, binary_size = 0;
@@ -97,6 +101,8 @@ cl::Program ProgramCache::load_binary(const std::string& key, const std::string&
   try {
     cl::Program program(context_, {device_.device}, cl::Program::Binaries{binary});
     program.build({device_.device}, options.c_str());
+    std::error_code error;  // the entry's time says when it was last used (trim)
+    std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now(), error);
     return program;
   } catch (const cl::Error&) {
     return {};
@@ -129,6 +135,36 @@ void ProgramCache::store_binary(const std::string& key, const cl::Program& progr
   }
   std::filesystem::rename(temporary, path, error);
   if (error) std::filesystem::remove(temporary, error);
+  else trim(path);
+}
+
+// Removes the entries used longest ago (a load refreshes an entry's time) until the directory's
+// entries take at most limit_bytes_, but never `kept`, the one just written. Other processes may
+// be reading or writing entries meanwhile: a removed one is rebuilt by whoever needs it next.
+void ProgramCache::trim(const std::filesystem::path& kept) const {
+  struct Entry {
+    std::filesystem::file_time_type used;
+    std::uintmax_t bytes;
+    std::filesystem::path path;
+  };
+  std::vector<Entry> entries;
+  std::uintmax_t total = 0;
+  std::error_code error;
+  for (std::filesystem::directory_iterator it(directory_, error), end; !error && it != end; it.increment(error)) {
+    if (it->path().extension() != ".bin") continue;  // not temporary files being written
+    std::error_code size_error, time_error;
+    const std::uintmax_t bytes = it->file_size(size_error);
+    const std::filesystem::file_time_type used = it->last_write_time(time_error);
+    if (size_error || time_error) continue;
+    total += bytes;
+    entries.push_back({used, bytes, it->path()});
+  }
+  if (total <= limit_bytes_) return;
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.used < b.used; });
+  for (const Entry& entry : entries) {
+    if (total <= limit_bytes_) break;
+    if (entry.path != kept && std::filesystem::remove(entry.path, error)) total -= entry.bytes;
+  }
 }
 
 }  // namespace clraster::cl_host

@@ -1,11 +1,14 @@
 // Builds OpenCL programs once: an in-memory cache for the life of the context and an on-disk cache
 // of program binaries between runs (a cold PoCL build takes about a second, a cached binary about a
 // millisecond). Entries are keyed by the full source, the build options, the device and the driver
-// version, so a changed kernel or driver never loads a stale binary.
+// version, so a changed kernel or driver never loads a stale binary. The directory keeps at most
+// limit_bytes of them, dropping the entries used longest ago first.
 #pragma once
 
 #include "cl/device.hpp"
+#include "clr_limits.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <unordered_map>
@@ -15,7 +18,8 @@ namespace clraster::cl_host {
 class ProgramCache {
  public:
   // cache_dir as in ContextOptions::cache_dir ("" picks the default location, "off" disables).
-  ProgramCache(cl::Context context, Device device, const std::string& cache_dir);
+  ProgramCache(cl::Context context, Device device, const std::string& cache_dir,
+               std::uintmax_t limit_bytes = std::uintmax_t{CLR_PROGRAM_CACHE_MIB} << 20);
 
   // The built program for this source and these options. Throws BuildError with the compiler's log.
   cl::Program get(const std::string& name, const std::string& source, const std::string& options);
@@ -27,10 +31,12 @@ class ProgramCache {
   cl::Program load_binary(const std::string& key, const std::string& options);
   void store_binary(const std::string& key, const cl::Program& program);
   std::filesystem::path entry_path(const std::string& key) const;
+  void trim(const std::filesystem::path& kept) const;
 
   cl::Context context_;
   Device device_;
   std::filesystem::path directory_;
+  std::uintmax_t limit_bytes_;
   std::unordered_map<std::string, cl::Program> programs_;
 };
 
