@@ -5,6 +5,7 @@
 #include "support/test_support.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -54,7 +55,13 @@ TEST(ProgramCache, RemovesTheEntriesUsedLongestAgoBeyondItsLimit) {
   run(room_for_two, {0});  // loaded: 0 is now the one used last
   run(room_for_two, {2});  // a third entry: 1, used longest ago, goes
   EXPECT_EQ(cached_kernels(directory), (std::set<int>{0, 2}));
+  // Files of someone else's in the directory are neither counted nor removed, even the oldest.
+  const fs::path others = directory / "0123456789abcdef.bin";
+  std::ofstream(others) << "not a program";
+  fs::last_write_time(others, fs::file_time_type::clock::now() - std::chrono::hours(24 * 365));
   run(room_for_two, {3, 4});
+  EXPECT_TRUE(fs::exists(others));
+  fs::remove(others);
   EXPECT_EQ(cached_kernels(directory), (std::set<int>{3, 4}));
   fs::remove_all(directory);
 }

@@ -1,6 +1,7 @@
 #include "cl/program_cache.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -39,6 +40,16 @@ void write_u64(std::ostream& out, std::uint64_t value) { out.write(reinterpret_c
 
 bool read_u64(std::istream& in, std::uint64_t& value) {
   return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof value));
+}
+
+// An entry of ours (entry_path's name, kMagic first), not a file a user keeps in the same directory.
+bool is_entry(const std::filesystem::path& path) {
+  const std::string name = path.filename().string();
+  const auto hex = [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; };
+  if (name.size() != 20 || !name.ends_with(".bin") || !std::all_of(name.begin(), name.begin() + 16, hex)) return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string magic(sizeof kMagic - 1, '\0');
+  return in.read(magic.data(), static_cast<std::streamsize>(magic.size())) && magic == kMagic;
 }
 
 }  // namespace
@@ -151,7 +162,7 @@ void ProgramCache::trim(const std::filesystem::path& kept) const {
   std::uintmax_t total = 0;
   std::error_code error;
   for (std::filesystem::directory_iterator it(directory_, error), end; !error && it != end; it.increment(error)) {
-    if (it->path().extension() != ".bin") continue;  // not temporary files being written
+    if (!is_entry(it->path())) continue;  // not temporary files being written, nor anyone else's
     std::error_code size_error, time_error;
     const std::uintmax_t bytes = it->file_size(size_error);
     const std::filesystem::file_time_type used = it->last_write_time(time_error);
