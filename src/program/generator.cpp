@@ -24,6 +24,13 @@ constexpr const char* kInterfaceName = "<clraster generated interface>";
 // The span program's type of a value of `type` (float3 -> clr_span_float3, fragment_ops.cl).
 std::string span_type(const std::string& type) { return "clr_span_" + type; }
 
+// Float j of the varyings, flat: the provoking vertex's value, which all three vertices hold, as a
+// `scalar` (integers travel as their bits).
+std::string flat_varying(const std::string& scalar, std::size_t j) {
+  const std::string value = "t->varyings[0][" + std::to_string(j) + "]";
+  return scalar == "float" ? value : "as_" + scalar + "(" + value + ")";
+}
+
 // A member of a generated struct that the user declared, and the declaration's line.
 struct Member {
   std::string text;  // "type name"
@@ -245,8 +252,7 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
       const std::size_t j = v.offset + static_cast<std::size_t>(c);
       if (c > 0) out << ", ";
       if (v.interpolation == "flat") {
-        out << (vector.scalar == "float" ? "" : "as_" + vector.scalar + "(") << "t->varyings[0][" << j << "]"
-            << (vector.scalar == "float" ? "" : ")");
+        out << flat_varying(vector.scalar, j);
       } else {
         out << "CLR_SPAN_LANE(float, values[" << j << "], lane)";
       }
@@ -264,9 +270,7 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
       const std::size_t j = v.offset + static_cast<std::size_t>(c);
       const std::string member = "v->" + v.name + (vector.components == 1 ? "" : std::string(".") + "xyzw"[c]);
       if (v.interpolation == "flat") {
-        const std::string value = "t->varyings[0][" + std::to_string(j) + "]";
-        out << "  " << member << " = (" << span_type(vector.scalar) << ")("
-            << (vector.scalar == "float" ? value : "as_" + vector.scalar + "(" + value + ")") << ");\n";
+        out << "  " << member << " = (" << span_type(vector.scalar) << ")(" << flat_varying(vector.scalar, j) << ");\n";
       } else {
         out << "  " << member << " = values[" << j << "];\n";
       }

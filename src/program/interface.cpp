@@ -88,14 +88,7 @@ class Parser {
     // A span program runs after the rasterizer's early tests and has no fragment of its own: what
     // needs one fragment at a time, or late tests, belongs to per-fragment programs.
     if (p.interface.has_fragment_span) {
-      static const std::regex per_fragment_function("\\b(bool\\s+depth_test|float4\\s+blend)\\s*\\(");
-      std::smatch function;
-      Mention first = std::min({derivative, discard, depth_write, fetch});
-      const bool defines_function = p.interface.has_depth_test || p.interface.has_blend;
-      if (defines_function && std::regex_search(code_, function, per_fragment_function) &&
-          static_cast<std::size_t>(function.position()) < first.position) {
-        first = {static_cast<std::size_t>(function.position()), normalize_spaces(function[1].str())};
-      }
+      const Mention first = std::min({derivative, discard, depth_write, fetch, depth_test_, blend_});
       if (first.found()) {
         fail(line_of(first.position), first.name + " needs a per-fragment program: a program with fragment_span "
                                                     "cannot use it (write void fragment(clr_fragment* f) instead)");
@@ -257,7 +250,8 @@ class Parser {
   }
 
   void find_entry_points() {
-    const auto defines = [&](const char* pattern) {
+    // Where the function `pattern` matches is defined at file scope, named `name`.
+    const auto definition = [&](const char* pattern, const char* name) -> Mention {
       const std::regex function(pattern);
       int depth = 0;
       std::size_t checked = 0;
@@ -266,10 +260,11 @@ class Parser {
           if (code_[checked] == '{') ++depth;
           if (code_[checked] == '}') --depth;
         }
-        if (depth == 0) return true;
+        if (depth == 0) return {checked, name};
       }
-      return false;
+      return {};
     };
+    const auto defines = [&](const char* pattern) { return definition(pattern, "").found(); };
     if (!defines("\\bvoid\\s+vertex\\s*\\([^)]*\\)\\s*\\{")) {
       fail(1, "the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
     }
@@ -284,8 +279,10 @@ class Parser {
               "fragment or per span");
     }
     result_.interface.has_fragment_span = per_span;
-    result_.interface.has_depth_test = defines("\\bbool\\s+depth_test\\s*\\([^)]*\\)\\s*\\{");
-    result_.interface.has_blend = defines("\\bfloat4\\s+blend\\s*\\([^)]*\\)\\s*\\{");
+    depth_test_ = definition("\\bbool\\s+depth_test\\s*\\([^)]*\\)\\s*\\{", "bool depth_test");
+    blend_ = definition("\\bfloat4\\s+blend\\s*\\([^)]*\\)\\s*\\{", "float4 blend");
+    result_.interface.has_depth_test = depth_test_.found();
+    result_.interface.has_blend = blend_.found();
   }
 
   std::string code_;
@@ -293,6 +290,7 @@ class Parser {
   ParsedProgram result_;
   std::size_t alignment_ = 4;   // of the uniform struct
   std::size_t next_offset_ = 0;  // where the next uniform would start
+  Mention depth_test_, blend_;   // the definitions of the optional per-fragment functions
 };
 
 }  // namespace
