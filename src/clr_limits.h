@@ -35,6 +35,11 @@
 
 /* ---- Work-group sizes -------------------------------------------------------------------------- */
 #define CLR_ITEM_GROUP_SIZE 64    /* one-work-item-per-element kernels (vertices, primitives) */
+/* Vertices one work-item of the vertex stage shades on a CPU, whose clip codes, projection and
+ * snapping it then computes together, one vector lane each (the build option CLR_VERTEX_LANES; GPUs
+ * take 1). PoCL does not vectorize that fixed-function work across work-items, because the vertex
+ * program before it works on float4s (stages/clip.cl). */
+#define CLR_CPU_VERTEX_LANES 8
 /* Scans, radix-sort passes and index validation take blocks of CLR_SCAN_BLOCK elements, one
  * work-group each. Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are the device's choice:
  * CLR_SCAN_GPU_ITEMS on GPUs, which share a block's work through local memory, and

@@ -36,7 +36,9 @@ __kernel void test_clip(__global const float* in, float2 guard_min, float2 guard
    * plane, clipped against the planes any is outside, else kept as it is. */
   uint any_outside = 0, all_outside = ~0u;
   for (int i = 0; i < 3; ++i) {
-    const uint code = clip_outcode(poly[i].position, guard_min, guard_max);
+    const PositionLanes lanes = position_in_every_lane(poly[i].position);
+    const vertex_lanes_int codes = clip_outcode_lanes(&lanes, guard_min, guard_max);
+    const uint code = (uint)CLR_VERTEX_LANE(int, codes, 0);
     any_outside |= code;
     all_outside &= code;
   }

@@ -52,13 +52,15 @@ bool ContextState::cpu_shapes() const {
 
 std::size_t ContextState::scan_items() const { return cpu_shapes() ? CLR_SCAN_CPU_ITEMS : CLR_SCAN_GPU_ITEMS; }
 
+std::size_t ContextState::vertex_lanes() const { return cpu_shapes() ? CLR_CPU_VERTEX_LANES : 1; }
+
 std::string ContextState::build_options() const {
   // Work-group shapes are the device's (clr_limits.h): kernels take them as constants, the host
   // reads them back from each kernel (cl_host::compiled_group_size).
   const int raster_items = cpu_shapes() ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
   return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size) +
          " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items) + " -DCLR_SCAN_GROUP_SIZE=" +
-         std::to_string(scan_items());
+         std::to_string(scan_items()) + " -DCLR_VERTEX_LANES=" + std::to_string(vertex_lanes());
 }
 
 const cl::Program& ContextState::core_program() {

@@ -181,7 +181,8 @@ DrawStats Framebuffer::draw(const DrawCall& call) {
     pipeline::DrawSource source;
     source.program = &compiled.parsed;
     if (!compiled.stages) {
-      auto stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort());
+      auto stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort(),
+                                                             state.vertex_lanes());
       const std::size_t needed = stages->raster.local_memory_bytes(state.device.device);
       const auto available = state.device.device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
       if (needed > available) {

@@ -39,6 +39,7 @@ struct ContextState : std::enable_shared_from_this<ContextState> {
   std::string build_options() const;
   bool cpu_shapes() const;         // the work-group shapes of a CPU device (clr_limits.h)
   std::size_t scan_items() const;  // work-items per block of scans and sorts (clr_limits.h)
+  std::size_t vertex_lanes() const;  // vertex slots per work-item of the vertex stage (clr_limits.h)
 
  private:
   std::optional<cl::Program> core_;

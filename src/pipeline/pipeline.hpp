@@ -26,8 +26,8 @@ namespace clraster::pipeline {
 
 // The stage kernels of one program.
 struct ProgramStages {
-  ProgramStages(const cl::Program& program, parallel::RadixSort& sort)
-      : vertex(program), setup(program), bin(program, sort), raster(program) {}
+  ProgramStages(const cl::Program& program, parallel::RadixSort& sort, std::size_t vertex_lanes)
+      : vertex(program, vertex_lanes), setup(program), bin(program, sort), raster(program) {}
   stages::VertexStage vertex;
   stages::SetupStage setup;
   stages::BinStage bin;

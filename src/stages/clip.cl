@@ -12,25 +12,66 @@ typedef struct {
   float varyings[CLR_NUM_VARYINGS];
 } ClipVertex;
 
-/* Signed distance of a clip-space position to plane `plane`: >= 0 inside. */
-static inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_max) {
+/* ---- Vertex lanes ----------------------------------------------------------------------------------
+ * The vertex stage classifies and projects CLR_VERTEX_LANES vertices at a time, one vector lane each
+ * (clr_limits.h: 8 on CPUs, where it took 60% of the vertex stage as scalar code; 1 on GPUs). The
+ * clip codes here and the projection in fixed_point.cl are written once, for lanes; clipping and
+ * set-up, which take one vertex at a time, put it in every lane and read lane 0. So a vertex made
+ * by clipping is projected and snapped by the same code as the vertices the vertex stage projected,
+ * and the two sides of a shared edge agree to the bit. */
+#if CLR_VERTEX_LANES == 1
+#define CLR_VERTEX_LANE_SUFFIX
+#define CLR_VERTEX_LANE(type, value, lane) (value)
+#define CLR_VERTEX_LANES_LOAD(array) ((array)[0])
+#elif CLR_VERTEX_LANES == 8
+#define CLR_VERTEX_LANE_SUFFIX 8
+#define CLR_VERTEX_LANE(type, value, lane) (((const type*)&(value))[lane])
+#define CLR_VERTEX_LANES_LOAD(array) vload8(0, array)
+#else
+#error "CLR_VERTEX_LANES must be 1 or 8"
+#endif
+typedef CLR_SPAN_CAT(float, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_float;
+typedef CLR_SPAN_CAT(int, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_int; /* also masks: -1 true in vectors, 1 in scalars */
+#define CLR_VERTEX_LANES_TO_INT_RTE(value) CLR_SPAN_CAT(CLR_SPAN_CAT(convert_int, CLR_VERTEX_LANE_SUFFIX), _rte)(value)
+#define CLR_VERTEX_LANES_TO_FLOAT(value) CLR_SPAN_CAT(convert_float, CLR_VERTEX_LANE_SUFFIX)(value)
+
+/* Clip-space positions, one vertex per lane. */
+typedef struct {
+  vertex_lanes_float x, y, z, w;
+} PositionLanes;
+
+static inline PositionLanes position_in_every_lane(float4 p) {
+  return (PositionLanes){(vertex_lanes_float)(p.x), (vertex_lanes_float)(p.y), (vertex_lanes_float)(p.z),
+                         (vertex_lanes_float)(p.w)};
+}
+
+/* Signed distance of each lane's position to plane `plane`: >= 0 inside. */
+static inline vertex_lanes_float clip_distance_lanes(const PositionLanes* p, int plane, float2 guard_min,
+                                                     float2 guard_max) {
   switch (plane) {
-    case 0: return p.z + p.w;                 /* near */
-    case 1: return p.w - p.z;                 /* far */
-    case 2: return p.x - guard_min.x * p.w;   /* left guard band */
-    case 3: return guard_max.x * p.w - p.x;   /* right */
-    case 4: return p.y - guard_min.y * p.w;   /* bottom */
-    default: return guard_max.y * p.w - p.y;  /* top */
+    case 0: return p->z + p->w;                  /* near */
+    case 1: return p->w - p->z;                  /* far */
+    case 2: return p->x - guard_min.x * p->w;    /* left guard band */
+    case 3: return guard_max.x * p->w - p->x;    /* right */
+    case 4: return p->y - guard_min.y * p->w;    /* bottom */
+    default: return guard_max.y * p->w - p->y;   /* top */
   }
 }
 
-/* Bit k set: the position is outside plane k. Unrolled, so that each plane's distance is its own
- * expression instead of a switch taken in a loop (this runs for every vertex). */
-CLR_INLINE uint clip_outcode(float4 p, float2 guard_min, float2 guard_max) {
-  uint code = 0;
+static inline float clip_distance(float4 p, int plane, float2 guard_min, float2 guard_max) {
+  const PositionLanes lanes = position_in_every_lane(p);
+  const vertex_lanes_float distance = clip_distance_lanes(&lanes, plane, guard_min, guard_max);
+  return CLR_VERTEX_LANE(float, distance, 0);
+}
+
+/* Bit k set: the lane's position is outside plane k. Unrolled, so that each plane's distance is its
+ * own expression instead of a switch taken in a loop (this runs for every vertex). */
+CLR_INLINE vertex_lanes_int clip_outcode_lanes(const PositionLanes* p, float2 guard_min, float2 guard_max) {
+  vertex_lanes_int code = 0;
 #pragma unroll
   for (int plane = 0; plane < CLR_CLIP_PLANES; ++plane) {
-    if (clip_distance(p, plane, guard_min, guard_max) < 0.0f) code |= 1u << plane;
+    code |= select((vertex_lanes_int)(0), (vertex_lanes_int)(1 << plane),
+                   clip_distance_lanes(p, plane, guard_min, guard_max) < 0.0f);
   }
   return code;
 }

@@ -14,21 +14,46 @@ typedef struct {
   float varyings[CLR_NUM_VARYINGS];
 } WindowVertex;
 
-/* Projects and snaps a clip-space position into `out` (all but its varyings). Returns false when
- * it cannot be projected (w = 0: only a vertex at the origin of clip space survives clipping with
- * w = 0). */
+/* Window positions of clip-space positions, one vertex per lane (clip.cl), projected and snapped. */
+typedef struct {
+  vertex_lanes_int fixed_x, fixed_y;            /* snapped, see WindowVertex */
+  vertex_lanes_float residual_x, residual_y;    /* what snapping took away */
+  vertex_lanes_float z, inv_w;                  /* window depth, 1 / clip w */
+  vertex_lanes_int projectable;                 /* mask; where false (w = 0) the rest is 0 */
+} ProjectedLanes;
+
+/* Projects and snaps each lane's clip-space position. Only a vertex at the origin of clip space
+ * survives clipping with w = 0; it cannot be projected. */
+CLR_INLINE ProjectedLanes project_lanes(const PositionLanes* p, __constant const DrawUniforms* u) {
+  const vertex_lanes_float inv_w = 1.0f / p->w;
+  const vertex_lanes_float x = p->x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
+  const vertex_lanes_float y = p->y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
+  const vertex_lanes_float z = p->z * inv_w * 0.5f + 0.5f;
+  const vertex_lanes_int projectable = isfinite(x) && isfinite(y) && isfinite(z);
+  /* Where a lane cannot be projected, 0 instead of what the conversions make of infinities. */
+  const vertex_lanes_float unsnapped_x = select((vertex_lanes_float)(0.0f), (x - 0.5f) * (float)CLR_SUBPIXEL_ONE, projectable);
+  const vertex_lanes_float unsnapped_y = select((vertex_lanes_float)(0.0f), (y - 0.5f) * (float)CLR_SUBPIXEL_ONE, projectable);
+  ProjectedLanes out;
+  out.fixed_x = CLR_VERTEX_LANES_TO_INT_RTE(unsnapped_x);
+  out.fixed_y = CLR_VERTEX_LANES_TO_INT_RTE(unsnapped_y);
+  out.residual_x = unsnapped_x - CLR_VERTEX_LANES_TO_FLOAT(out.fixed_x);
+  out.residual_y = unsnapped_y - CLR_VERTEX_LANES_TO_FLOAT(out.fixed_y);
+  out.z = select((vertex_lanes_float)(0.0f), z, projectable);
+  out.inv_w = select((vertex_lanes_float)(0.0f), inv_w, projectable);
+  out.projectable = projectable;
+  return out;
+}
+
+/* Projects and snaps one clip-space position into `out` (all but its varyings): project_lanes with
+ * the position in every lane. Returns false when it cannot be projected. */
 CLR_INLINE bool project_position(float4 position, __constant const DrawUniforms* u, WindowVertex* out) {
-  const float inv_w = 1.0f / position.w;
-  const float x = position.x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
-  const float y = position.y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
-  const float z = position.z * inv_w * 0.5f + 0.5f;
-  if (!isfinite(x) || !isfinite(y) || !isfinite(z)) return false;
-  const float2 unsnapped = (float2)(x - 0.5f, y - 0.5f) * (float)CLR_SUBPIXEL_ONE;
-  out->fixed = convert_int2_rte(unsnapped);
-  out->residual = unsnapped - convert_float2(out->fixed);
-  out->z = z;
-  out->inv_w = inv_w;
-  return true;
+  const PositionLanes lanes = position_in_every_lane(position);
+  const ProjectedLanes window = project_lanes(&lanes, u);
+  out->fixed = (int2)(CLR_VERTEX_LANE(int, window.fixed_x, 0), CLR_VERTEX_LANE(int, window.fixed_y, 0));
+  out->residual = (float2)(CLR_VERTEX_LANE(float, window.residual_x, 0), CLR_VERTEX_LANE(float, window.residual_y, 0));
+  out->z = CLR_VERTEX_LANE(float, window.z, 0);
+  out->inv_w = CLR_VERTEX_LANE(float, window.inv_w, 0);
+  return CLR_VERTEX_LANE(int, window.projectable, 0) != 0;
 }
 
 /* project_position with the vertex's varyings. */

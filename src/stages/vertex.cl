@@ -1,5 +1,7 @@
-/* vertex.cl: the vertex stage. One work-item per vertex slot fetches the vertex's attributes and
- * runs the program's vertex function; the slot keeps the clip-space position and the varyings.
+/* vertex.cl: the vertex stage. Each work-item takes CLR_VERTEX_LANES consecutive vertex slots: it
+ * runs the program's vertex function on each one's attributes, storing the clip-space position and
+ * the varyings, then classifies, projects and snaps the positions together, one vector lane each
+ * (clip.cl).
  *
  * Slots: when the whole vertex range is shaded once per draw, slot s holds vertex s. Otherwise
  * (the draw's transformed vertices would not fit the memory cap) each chunk shades its own stream
@@ -9,38 +11,61 @@
  * Besides the program's outputs a slot keeps the vertex's clip codes and its window position
  * (types.h): computed here once per vertex, not by set-up once per triangle using it. */
 
-/* The window part of a slot (CLR_SHADED_WINDOW, two float4s) for a clip-space position. */
-CLR_INLINE void store_window_part(float4 position, __constant const DrawUniforms* u, __global float4* out) {
-  uint codes = clip_outcode(position, vload2(0, u->guard_min), vload2(0, u->guard_max));
-  WindowVertex w = {0};
-  if (!all(isfinite(position))) {
-    codes |= CLR_VERTEX_NOT_FINITE;
-  } else if (!project_position(position, u, &w)) {
-    codes |= CLR_VERTEX_NOT_PROJECTABLE;
-  }
-  out[0] = (float4)(as_float2(w.fixed), w.residual);
-  out[1] = (float4)(w.z, w.inv_w, as_float(codes), 0.0f);
-}
-
 __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint stream_begin, uint main_count,
                            uint slot_count, __constant const DrawUniforms* u,
                            __global float4* shaded CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
-  const uint slot = get_global_id(0);
-  if (slot >= slot_count) return;
-  uint vertex_index = slot;
-  if (!shade_all) {
-    const uint position = u->first + (slot < main_count ? stream_begin + slot : 0u);
-    vertex_index = u->index_size ? fetch_index(indices, u->index_size, position) : position;
+  const uint first_slot = get_global_id(0) * CLR_VERTEX_LANES;
+  if (first_slot >= slot_count) return;
+  const uint lane_count = min((uint)CLR_VERTEX_LANES, slot_count - first_slot);
+  __global float4* const first_out = shaded + (size_t)first_slot * CLR_SHADED_VERTEX_FLOAT4S;
+
+  /* Lanes past the last slot keep (0, 0, 0, 1) and store nothing. */
+  float position[4][CLR_VERTEX_LANES];
+  for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
+    position[0][lane] = position[1][lane] = position[2][lane] = 0.0f;
+    position[3][lane] = 1.0f;
   }
-  clr_vertex v = {0};
-  v.vertex_id = vertex_index;
-  v.instance_id = u->instance;
-  CLR_FETCH_ATTRIBUTES(v.in, vertex_index, u->instance);
-  v.position = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
-  CLR_BIND_RESOURCES(v);
-  vertex(&v);
-  __global float4* out = shaded + (size_t)slot * CLR_SHADED_VERTEX_FLOAT4S;
-  out[0] = v.position;
-  store_window_part(v.position, u, out + CLR_SHADED_WINDOW);
-  clr_store_varyings(&v.out, (__global float*)(out + CLR_SHADED_VARYINGS));
+  for (uint lane = 0; lane < lane_count; ++lane) {
+    const uint slot = first_slot + lane;
+    uint vertex_index = slot;
+    if (!shade_all) {
+      const uint stream_position = u->first + (slot < main_count ? stream_begin + slot : 0u);
+      vertex_index = u->index_size ? fetch_index(indices, u->index_size, stream_position) : stream_position;
+    }
+    clr_vertex v = {0};
+    v.vertex_id = vertex_index;
+    v.instance_id = u->instance;
+    CLR_FETCH_ATTRIBUTES(v.in, vertex_index, u->instance);
+    v.position = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
+    CLR_BIND_RESOURCES(v);
+    vertex(&v);
+    __global float4* const out = first_out + lane * CLR_SHADED_VERTEX_FLOAT4S;
+    out[0] = v.position;
+    clr_store_varyings(&v.out, (__global float*)(out + CLR_SHADED_VARYINGS));
+    position[0][lane] = v.position.x;
+    position[1][lane] = v.position.y;
+    position[2][lane] = v.position.z;
+    position[3][lane] = v.position.w;
+  }
+
+  /* The window part of the slots (CLR_SHADED_WINDOW, two float4s). */
+  const PositionLanes p = {CLR_VERTEX_LANES_LOAD(position[0]), CLR_VERTEX_LANES_LOAD(position[1]),
+                           CLR_VERTEX_LANES_LOAD(position[2]), CLR_VERTEX_LANES_LOAD(position[3])};
+  const ProjectedLanes window = project_lanes(&p, u);
+  const vertex_lanes_int finite = isfinite(p.x) && isfinite(p.y) && isfinite(p.z) && isfinite(p.w);
+  const vertex_lanes_int codes = clip_outcode_lanes(&p, vload2(0, u->guard_min), vload2(0, u->guard_max)) |
+                                 select((vertex_lanes_int)(0), (vertex_lanes_int)(CLR_VERTEX_NOT_FINITE), !finite) |
+                                 select((vertex_lanes_int)(0), (vertex_lanes_int)(CLR_VERTEX_NOT_PROJECTABLE),
+                                        finite && !window.projectable);
+#pragma unroll
+  for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
+    if (lane < lane_count) {
+      __global float4* const out = first_out + lane * CLR_SHADED_VERTEX_FLOAT4S + CLR_SHADED_WINDOW;
+      out[0] = (float4)(as_float(CLR_VERTEX_LANE(int, window.fixed_x, lane)),
+                        as_float(CLR_VERTEX_LANE(int, window.fixed_y, lane)),
+                        CLR_VERTEX_LANE(float, window.residual_x, lane), CLR_VERTEX_LANE(float, window.residual_y, lane));
+      out[1] = (float4)(CLR_VERTEX_LANE(float, window.z, lane), CLR_VERTEX_LANE(float, window.inv_w, lane),
+                        as_float(CLR_VERTEX_LANE(int, codes, lane)), 0.0f);
+    }
+  }
 }

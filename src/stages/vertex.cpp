@@ -12,7 +12,7 @@ void VertexStage::run(cl_host::Queue& queue, const VertexParams& p) {
   cl_uint next = set_resource_args(kernel_, 7, *p.draw->resources);
   kernel_.setArg(next++, p.draw->attribute_descs);
   for (const cl::Buffer& attribute : p.draw->attributes) kernel_.setArg(next++, attribute);
-  cl_host::enqueue_items(queue, kernel_, p.slot_count, CLR_ITEM_GROUP_SIZE);
+  cl_host::enqueue_items(queue, kernel_, cl_host::divide_round_up(p.slot_count, lanes_), CLR_ITEM_GROUP_SIZE);
 }
 
 }  // namespace clraster::stages

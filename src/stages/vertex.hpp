@@ -1,8 +1,10 @@
-// The vertex stage (kernel in vertex.cl): the program's vertex function, one work-item per slot.
+// The vertex stage (kernel in vertex.cl): the program's vertex function, one work-item per
+// CLR_VERTEX_LANES slots.
 #pragma once
 
 #include "stages/draw_buffers.hpp"
 
+#include <cstddef>
 #include <cstdint>
 
 namespace clraster::stages {
@@ -18,11 +20,13 @@ struct VertexParams {
 
 class VertexStage {
  public:
-  explicit VertexStage(const cl::Program& program) : kernel_(program, "vertex_shade") {}
+  // `lanes`: the slots each work-item shades, the CLR_VERTEX_LANES the program was built with.
+  VertexStage(const cl::Program& program, std::size_t lanes) : kernel_(program, "vertex_shade"), lanes_(lanes) {}
   void run(cl_host::Queue& queue, const VertexParams& params);
 
  private:
   cl::Kernel kernel_;
+  std::size_t lanes_;
 };
 
 }  // namespace clraster::stages
