@@ -15,8 +15,8 @@ typedef struct {
 /* ---- Vertex lanes ----------------------------------------------------------------------------------
  * The vertex stage classifies and projects CLR_VERTEX_LANES vertices at a time, one vector lane each
  * (clr_limits.h: 8 on CPUs, where it took 60% of the vertex stage as scalar code; 1 on GPUs). The
- * clip codes here and the projection in fixed_point.cl are written once, for lanes; clipping and
- * set-up, which take one vertex at a time, put it in every lane and read lane 0. So a vertex made
+ * clip codes here and the projection in fixed_point.cl are written once, for lanes; clipping (in
+ * set-up), which takes one vertex at a time, puts it in every lane and reads lane 0. So a vertex made
  * by clipping is projected and snapped by the same code as the vertices the vertex stage projected,
  * and the two sides of a shared edge agree to the bit. */
 #if CLR_VERTEX_LANES == 1
