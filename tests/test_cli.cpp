@@ -223,20 +223,6 @@ TEST(CliRender, GlBackendAgreesWithClraster) {
   EXPECT_LE(comparison.at("colour_mismatch").get<double>(), kNormalShading.max_colour_mismatch) << comparison;
 }
 
-TEST(CliRender, NonFiniteVerticesAreDroppedAndCountedAndTheRestRenders) {
-  const fs::path finite = write_scratch_file("finite.obj", kObjTriangle + "f 1 2 3\n");
-  const fs::path non_finite = write_scratch_file(
-      "non-finite.obj", kObjTriangle + "v nan 0 0\nv 1 inf 0\nv 0 0 -inf\nf 4 2 3\nf 1 2 3\nf 1 5 3\nf 1 2 6\n");
-  const Rendered expected = render("finite.png", {finite.string(), "--size", "64x48"});
-  const Rendered result = render("non-finite.png", {non_finite.string(), "--size", "64x48", "--stats"});
-
-  const json stats = json::parse(result.out);
-  EXPECT_EQ(stats.value("triangles", 0), 4);
-  EXPECT_EQ(stats.value("triangles_dropped", 0), 3);
-  ASSERT_GT(covered_pixel_count(expected.picture), 100u);
-  EXPECT_TRUE(images_match(result.picture, expected.picture, kExact));
-}
-
 TEST(CliCompare, ReportsTheDifferencesAsJson) {
   // 4x2 pixels, black but for: pixel 0 the same red in both; pixel 1 grey, one channel 10 apart;
   // pixel 2 blue in A only; pixel 3 green in B only.
@@ -529,6 +515,13 @@ std::vector<BadModelFile> bad_model_files() {
 
 INSTANTIATE_TEST_SUITE_P(Files, RejectedModelFile, ::testing::ValuesIn(bad_model_files()),
                          [](const auto& info) { return info.param.name; });
+
+TEST(CliBadInput, NonFiniteCoordinatesAreNamed) {
+  const fs::path model = write_scratch_file("non-finite.obj", kObjTriangle + "v nan 0 0\nf 1 2 3\nf 4 2 3\n");
+  expect_render_rejected({model.string(), "--size", "16x16"}, "'" + model.string() +
+                                                                  "': face 1 of mesh 'defaultobject' has a corner "
+                                                                  "with a non-finite position (nan, 0, 0)");
+}
 
 struct CraftedModel {
   const char* name;

@@ -442,23 +442,42 @@ endsolid zero
   for (std::uint32_t v = 0; v < 3; ++v) EXPECT_TRUE(near(normal(mesh, v), {0, 0, 1}, 1e-6));
 }
 
-TEST_F(CraftedModel, NonFiniteCoordinatesAreKept) {
-  // The first triangle has a NaN corner; the second is finite and shares two positions with it.
-  const Mesh mesh = load(write("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n"));
-  ASSERT_EQ(mesh.triangle_count(), 2u);
-  EXPECT_TRUE(std::isnan(corner(mesh, 0, 0).x));
-  // The NaN triangle's normal is left out of its neighbours' sums.
-  for (int k = 0; k < 3; ++k) EXPECT_TRUE(near(normal(mesh, mesh.indices[3 + k]), {0, 0, 1}, 1e-6));
-
-  const Mesh infinite = load(write("inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"));
-  ASSERT_EQ(infinite.triangle_count(), 1u);
-  EXPECT_TRUE(std::isinf(corner(infinite, 0, 2).y));
+TEST_F(CraftedModel, NonFiniteCoordinatesAreErrors) {
+  // Each message names the face, its mesh (assimp's name for an OBJ file's unnamed object) and the values.
+  EXPECT_NE(load_error(write("nan.obj", "v 1 0 0\nv nan 0 0\nv 0 1 0\nf 1 3 1\nf 1 2 3\n"))
+                .find("face 1 of mesh 'defaultobject' has a corner with a non-finite position (nan, 0, 0)"),
+            std::string::npos);
+  EXPECT_NE(load_error(write("inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"))
+                .find("has a corner with a non-finite position (0, inf, 0)"),
+            std::string::npos);
+  EXPECT_NE(load_error(write("normal.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 -inf 1\n"
+                                           "f 1//1 2//1 3//2\n"))
+                .find("has a corner with a non-finite normal (0, -inf, 1)"),
+            std::string::npos);
 }
 
-TEST(LoadModel, GltfWithInfinitiesLoads) {
-  const Mesh mesh = load(kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb");
-  EXPECT_EQ(mesh.triangle_count(), 12u);
-  EXPECT_TRUE(std::any_of(mesh.positions.begin(), mesh.positions.end(), [](float x) { return !std::isfinite(x); }));
+TEST(LoadModel, GltfWithInfinitiesIsAnError) {
+  const fs::path path = kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb";
+  EXPECT_NE(load_error(path).find("has a corner with a non-finite position"), std::string::npos);
+}
+
+TEST_F(CraftedModel, PositionsMovedBeyondFloatRangeAreErrors) {
+  // Finite in the file; the node's scale carries x = 1 to 3e38 * 2e38.
+  write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  const std::string gltf = R"({
+  "asset": {"version": "2.0"},
+  "buffers": [{"uri": "data.bin", "byteLength": 36}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]}],
+  "meshes": [{"name": "huge", "primitives": [{"attributes": {"POSITION": 0}}]}],
+  "nodes": [{"scale": [3e38, 3e38, 3e38], "children": [1]}, {"mesh": 0, "scale": [2e38, 2e38, 2e38]}],
+  "scenes": [{"nodes": [0]}],
+  "scene": 0
+})";
+  EXPECT_NE(load_error(write("huge.gltf", gltf))
+                .find("mesh 'huge' is moved beyond the range of float coordinates by its node's transform"),
+            std::string::npos);
 }
 
 // ---- Texture coordinates, materials and parts ----------------------------------------------------
@@ -971,21 +990,21 @@ TEST_F(CraftedModel, TextureWithoutAnImageNameIsLeftOut) {
             std::vector<std::string>{"material 'second set': its base colour texture names no image"});
 }
 
-TEST_F(CraftedModel, NonFiniteTexcoordsAreKept) {
-  // Like non-finite positions: as they are (v turned up: 1 - (-inf) is inf).
+TEST_F(CraftedModel, NonFiniteTexcoordsAreErrors) {
   write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}) +
-                        bytes_of<float>({NAN, 0.5f, INFINITY, -INFINITY, 0, 0.75f}) +
+                        bytes_of<float>({0.25f, 0.5f, INFINITY, 0.5f, 0, 0.75f}) +
                         bytes_of<std::uint16_t>({0, 1, 2}));
-  const Model model = load(write("two_sets.gltf", kTwoSetsGltf));
-  ASSERT_EQ(model.texcoords.size(), 12u);
-  EXPECT_TRUE(std::isnan(model.texcoords[0]));
-  EXPECT_EQ(model.texcoords[1], 0.5f);
-  EXPECT_EQ(model.texcoords[2], INFINITY);
-  EXPECT_EQ(model.texcoords[3], INFINITY);
+  // Vertex 1's (inf, 0.5), v turned up: 1 - 0.5; assimp names an unnamed glTF mesh by its index.
+  const std::string message = load_error(write("two_sets.gltf", kTwoSetsGltf));
+  EXPECT_NE(message.find("face 0 of mesh 'meshes[0]' has a corner with a non-finite texture coordinate (inf, 0.5)"),
+            std::string::npos)
+      << message;
 
   // assimp's OBJ reader itself reads non-finite texture coordinates as 0.
-  const Model obj =
-      load(write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0.5\nvt 0.5 inf\nvt 1 -inf\nf 1/1 2/2 3/3\n"));
+  std::vector<std::string> warnings;
+  const Model obj = load_model(
+      write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0.5\nvt 0.5 inf\nvt 1 -inf\nf 1/1 2/2 3/3\n").string(),
+      warnings);
   EXPECT_EQ(obj.texcoords, (std::vector<float>{0, 0.5f, 0.5f, 0, 1, 0}));
 }
 

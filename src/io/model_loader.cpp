@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -29,6 +30,7 @@
 #include <glm/matrix.hpp>
 
 #include "clraster/clraster.hpp"
+#include "io/format.hpp"
 #include "io/procedural.hpp"
 
 namespace clraster::io {
@@ -434,6 +436,28 @@ bool has_nonzero_normal(const aiMesh& source) {
                                             [](const aiVector3D& n) { return !(n.x == 0 && n.y == 0 && n.z == 0); });
 }
 
+// Refuses a triangle with a NaN or infinite position, normal or texture coordinate at a corner. The
+// message counts faces, which are in the file's order within a mesh; assimp's vertices are not
+// (its OBJ reader makes one per face corner).
+void require_finite_corners(const Mesh& mesh, const std::string& mesh_name, const std::string& path) {
+  const auto require_finite = [&](std::size_t corner, const char* attribute, const std::vector<float>& values,
+                                  std::size_t components) {
+    const std::size_t first = components * mesh.indices[corner];
+    const auto begin = values.begin() + static_cast<std::ptrdiff_t>(first);
+    const auto end = begin + static_cast<std::ptrdiff_t>(components);
+    if (std::all_of(begin, end, [](float x) { return std::isfinite(x); })) return;
+    std::string text;
+    for (auto value = begin; value != end; ++value) text += (text.empty() ? "(" : ", ") + format_number(*value);
+    fail(path, "face " + std::to_string(corner / 3) + " of mesh '" + mesh_name + "' has a corner with a non-finite " +
+                   attribute + " " + text + ")");
+  };
+  for (std::size_t corner = 0; corner < mesh.indices.size(); ++corner) {
+    require_finite(corner, "position", mesh.positions, 3);
+    require_finite(corner, "normal", mesh.normals, 3);
+    if (!mesh.texcoords.empty()) require_finite(corner, "texture coordinate", mesh.texcoords, 2);
+  }
+}
+
 // The triangles of one assimp mesh in its own coordinates, with the file's normals or zeros, and its
 // first set of texture coordinates when it has one. Points and lines are counted in `skipped`
 // instead.
@@ -479,6 +503,7 @@ Mesh triangles_of(const aiMesh& source, bool file_normals, SkippedPrimitives& sk
       mesh.texcoords.insert(mesh.texcoords.end(), {uv.x, uv.y});
     }
   }
+  require_finite_corners(mesh, source.mName.C_Str(), path);
   return mesh;
 }
 
@@ -560,9 +585,6 @@ void smooth_normals(std::span<Mesh* const> meshes) {
     const Mesh& mesh = *meshes[m];
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
       const glm::dvec3 normal = face_normal(mesh, t);
-      // A triangle with a non-finite corner is dropped by the pipeline; its normal must not turn
-      // the normals of its finite neighbours into NaN.
-      if (!std::isfinite(normal.x) || !std::isfinite(normal.y) || !std::isfinite(normal.z)) continue;
       for (int corner = 0; corner < 3; ++corner) sums[slot_of_vertex[m][mesh.indices[3 * t + corner]]] += normal;
     }
   }
@@ -625,6 +647,11 @@ std::vector<Piece> mesh_instances(const aiScene& scene, bool gltf, SkippedPrimit
       Mesh piece = triangles_of(source, file_normals, skipped, path);
       if (piece.indices.empty()) continue;
       transform(piece, to_glm(node_transform));
+      // Finite in the file, but a node's scale can still carry a position beyond float's range.
+      if (!std::all_of(piece.positions.begin(), piece.positions.end(), [](float x) { return std::isfinite(x); })) {
+        fail(path, std::string("mesh '") + source.mName.C_Str() +
+                       "' is moved beyond the range of float coordinates by its node's transform");
+      }
       if (file_normals) {
         pieces.push_back({std::move(piece), false, source.mMaterialIndex});
       } else if (gltf) {

@@ -81,14 +81,14 @@ struct Model : Mesh {
 //   them gets (0, 0) when others have them, and a model without any has none;
 // - each mesh instance is drawn with its mesh's material; instances that follow each other with the
 //   same material make one part;
-// - non-finite coordinates, texture coordinates included, are kept as they are (the pipeline
-//   drops triangles with non-finite positions);
 // - texture files are neither opened nor checked. A base colour texture that names no image, or
 //   that the file embeds as raw texels rather than as an image file (Quake and Half-Life MDL), is
 //   left out, and one mapped by a texture coordinate set other than the first is kept, each with a
 //   line in Model::material_warnings.
 // Throws clraster::InvalidArgument with one line naming the file when the file is missing or
-// unreadable, assimp cannot parse it, it has no triangles, faces reference vertices, normals or
+// unreadable, assimp cannot parse it, it has no triangles, a triangle has a NaN or infinite
+// position, normal or texture coordinate at a corner (the message names the face, its mesh and the
+// values) or a node's transform moves a position beyond float's range, faces reference vertices, normals or
 // texture coordinates that do not exist (also when assimp would repair that by dropping the faces,
 // normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file has what
 // assimp reads wrongly: triangle strips or floating-point vertex indices.
