@@ -443,8 +443,9 @@ endsolid zero
 }
 
 TEST_F(CraftedModel, NonFiniteCoordinatesAreErrors) {
-  // Each message names the face, its mesh (assimp's name for an OBJ file's unnamed object) and the values.
-  EXPECT_NE(load_error(write("nan.obj", "v 1 0 0\nv nan 0 0\nv 0 1 0\nf 1 3 1\nf 1 2 3\n"))
+  // Each message names the face, its mesh (assimp's name for an OBJ file's unnamed object) and the
+  // values.
+  EXPECT_NE(load_error(write("nan.obj", "v 1 0 0\nv nan 0 0\nv 0 1 0\nv 1 1 0\nf 1 4 3\nf 1 2 3\n"))
                 .find("face 1 of mesh 'defaultobject' has a corner with a non-finite position (nan, 0, 0)"),
             std::string::npos);
   EXPECT_NE(load_error(write("inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"))
@@ -459,6 +460,26 @@ TEST_F(CraftedModel, NonFiniteCoordinatesAreErrors) {
 TEST(LoadModel, GltfWithInfinitiesIsAnError) {
   const fs::path path = kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb";
   EXPECT_NE(load_error(path).find("has a corner with a non-finite position"), std::string::npos);
+}
+
+TEST_F(CraftedModel, LargeScalesKeepUnitNormals) {
+  // Positions up to 1e20 are floats; the normals' cofactors, 1e40, are not.
+  write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}) + bytes_of<float>({0, 0, 1, 0, 0, 1, 0, 0, 1}));
+  const Mesh mesh = load(write("scaled.gltf", R"({
+  "asset": {"version": "2.0"},
+  "buffers": [{"uri": "data.bin", "byteLength": 72}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}}]}],
+  "nodes": [{"mesh": 0, "scale": [1e20, 1e20, 1e20]}],
+  "scenes": [{"nodes": [0]}],
+  "scene": 0
+})"));
+  ASSERT_EQ(mesh.triangle_count(), 1u);
+  EXPECT_TRUE(near(corner(mesh, 0, 1), {1e20, 0, 0}, 1e13));
+  for (std::uint32_t v = 0; v < 3; ++v) EXPECT_TRUE(near(normal(mesh, v), {0, 0, 1}, 1e-6));
 }
 
 TEST_F(CraftedModel, PositionsMovedBeyondFloatRangeAreErrors) {
@@ -1001,10 +1022,8 @@ TEST_F(CraftedModel, NonFiniteTexcoordsAreErrors) {
       << message;
 
   // assimp's OBJ reader itself reads non-finite texture coordinates as 0.
-  std::vector<std::string> warnings;
-  const Model obj = load_model(
-      write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0.5\nvt 0.5 inf\nvt 1 -inf\nf 1/1 2/2 3/3\n").string(),
-      warnings);
+  const Model obj =
+      load(write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt nan 0.5\nvt 0.5 inf\nvt 1 -inf\nf 1/1 2/2 3/3\n"));
   EXPECT_EQ(obj.texcoords, (std::vector<float>{0, 0.5f, 0.5f, 0, 1, 0}));
 }
 

@@ -88,10 +88,10 @@ struct Model : Mesh {
 // Throws clraster::InvalidArgument with one line naming the file when the file is missing or
 // unreadable, assimp cannot parse it, it has no triangles, a triangle has a NaN or infinite
 // position, normal or texture coordinate at a corner (the message names the face, its mesh and the
-// values) or a node's transform moves a position beyond float's range, faces reference vertices, normals or
-// texture coordinates that do not exist (also when assimp would repair that by dropping the faces,
-// normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file has what
-// assimp reads wrongly: triangle strips or floating-point vertex indices.
+// values) or a node's transform moves a position beyond float's range, faces reference vertices,
+// normals or texture coordinates that do not exist (also when assimp would repair that by dropping
+// the faces, normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file
+// has what assimp reads wrongly: triangle strips or floating-point vertex indices.
 // Loads from several threads take turns: assimp's logger, which this watches, is process-wide.
 Model load_model(const std::string& path, std::vector<std::string>& warnings);
 

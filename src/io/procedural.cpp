@@ -476,13 +476,14 @@ Mesh merge(const std::vector<Mesh>& meshes) {
 
 void transform(Mesh& mesh, const glm::mat4& matrix) {
   require_attributes_per_vertex("transform: the mesh", mesh);
-  const glm::mat3 linear(matrix);
-  const float determinant = glm::determinant(linear);
+  // In double: the cofactors of a large scale (1e20) overflow floats and would make normals NaN.
+  const glm::dmat3 linear(matrix);
+  const double determinant = glm::determinant(linear);
   // The cofactor matrix is the inverse transpose times the determinant, and unlike the inverse it
   // exists for singular matrices too. Taking it times the determinant's sign keeps normals on the
   // side they were on.
-  glm::mat3 normal_matrix(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
-                          glm::cross(linear[0], linear[1]));
+  glm::dmat3 normal_matrix(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                           glm::cross(linear[0], linear[1]));
   if (determinant < 0) normal_matrix = -normal_matrix;
 
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -491,9 +492,9 @@ void transform(Mesh& mesh, const glm::mat4& matrix) {
     position[0] = moved.x, position[1] = moved.y, position[2] = moved.z;
 
     float* normal = &mesh.normals[3 * v];
-    const glm::vec3 turned = normal_matrix * glm::vec3(normal[0], normal[1], normal[2]);
-    const float length = glm::length(turned);
-    const glm::vec3 unit = length > 0 ? turned / length : glm::vec3(0);
+    const glm::dvec3 turned = normal_matrix * glm::dvec3(normal[0], normal[1], normal[2]);
+    const double length = glm::length(turned);
+    const glm::vec3 unit = length > 0 ? glm::vec3(turned / length) : glm::vec3(0);
     normal[0] = unit.x, normal[1] = unit.y, normal[2] = unit.z;
   }
   if (determinant < 0) {
