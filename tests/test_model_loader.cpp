@@ -457,6 +457,12 @@ TEST_F(CraftedModel, NonFiniteCoordinatesAreErrors) {
             std::string::npos);
 }
 
+TEST_F(CraftedModel, NonFiniteVerticesNoTriangleUsesAreIgnored) {
+  // Also after the node's transform, which moves every vertex.
+  const Mesh mesh = load(write("unused.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\nnan 5 5\n3 0 1 2\n"));
+  EXPECT_EQ(mesh.triangle_count(), 1u);
+}
+
 TEST(LoadModel, GltfWithInfinitiesIsAnError) {
   const fs::path path = kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb";
   EXPECT_NE(load_error(path).find("has a corner with a non-finite position"), std::string::npos);

@@ -436,26 +436,36 @@ bool has_nonzero_normal(const aiMesh& source) {
                                             [](const aiVector3D& n) { return !(n.x == 0 && n.y == 0 && n.z == 0); });
 }
 
+// The first triangle corner of `mesh` whose attribute (`values`, `components` per vertex) has a NaN
+// or infinite component, as its index in mesh.indices. Vertices no triangle uses do not count.
+std::optional<std::size_t> first_non_finite_corner(const Mesh& mesh, const std::vector<float>& values,
+                                                   std::size_t components) {
+  for (std::size_t corner = 0; corner < mesh.indices.size(); ++corner) {
+    const auto begin = values.begin() + static_cast<std::ptrdiff_t>(components * mesh.indices[corner]);
+    if (!std::all_of(begin, begin + static_cast<std::ptrdiff_t>(components), [](float x) { return std::isfinite(x); })) {
+      return corner;
+    }
+  }
+  return std::nullopt;
+}
+
 // Refuses a triangle with a NaN or infinite position, normal or texture coordinate at a corner. The
 // message counts faces, which are in the file's order within a mesh; assimp's vertices are not
 // (its OBJ reader makes one per face corner).
 void require_finite_corners(const Mesh& mesh, const std::string& mesh_name, const std::string& path) {
-  const auto require_finite = [&](std::size_t corner, const char* attribute, const std::vector<float>& values,
-                                  std::size_t components) {
-    const std::size_t first = components * mesh.indices[corner];
-    const auto begin = values.begin() + static_cast<std::ptrdiff_t>(first);
-    const auto end = begin + static_cast<std::ptrdiff_t>(components);
-    if (std::all_of(begin, end, [](float x) { return std::isfinite(x); })) return;
+  const auto require_finite = [&](const char* attribute, const std::vector<float>& values, std::size_t components) {
+    const std::optional<std::size_t> corner = first_non_finite_corner(mesh, values, components);
+    if (!corner) return;
     std::string text;
-    for (auto value = begin; value != end; ++value) text += (text.empty() ? "(" : ", ") + format_number(*value);
-    fail(path, "face " + std::to_string(corner / 3) + " of mesh '" + mesh_name + "' has a corner with a non-finite " +
+    for (std::size_t k = 0; k < components; ++k) {
+      text += (k == 0 ? "(" : ", ") + format_number(values[components * mesh.indices[*corner] + k]);
+    }
+    fail(path, "face " + std::to_string(*corner / 3) + " of mesh '" + mesh_name + "' has a corner with a non-finite " +
                    attribute + " " + text + ")");
   };
-  for (std::size_t corner = 0; corner < mesh.indices.size(); ++corner) {
-    require_finite(corner, "position", mesh.positions, 3);
-    require_finite(corner, "normal", mesh.normals, 3);
-    if (!mesh.texcoords.empty()) require_finite(corner, "texture coordinate", mesh.texcoords, 2);
-  }
+  require_finite("position", mesh.positions, 3);
+  require_finite("normal", mesh.normals, 3);
+  if (!mesh.texcoords.empty()) require_finite("texture coordinate", mesh.texcoords, 2);
 }
 
 // The triangles of one assimp mesh in its own coordinates, with the file's normals or zeros, and its
@@ -648,7 +658,7 @@ std::vector<Piece> mesh_instances(const aiScene& scene, bool gltf, SkippedPrimit
       if (piece.indices.empty()) continue;
       transform(piece, to_glm(node_transform));
       // Finite in the file, but a node's scale can still carry a position beyond float's range.
-      if (!std::all_of(piece.positions.begin(), piece.positions.end(), [](float x) { return std::isfinite(x); })) {
+      if (first_non_finite_corner(piece, piece.positions, 3)) {
         fail(path, std::string("mesh '") + source.mName.C_Str() +
                        "' is moved beyond the range of float coordinates by its node's transform");
       }
