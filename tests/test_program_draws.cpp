@@ -10,6 +10,8 @@
 #include "support/test_support.hpp"
 
 #include <array>
+#include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -150,6 +152,95 @@ TEST(SpanPrograms, WriteTheBitsOfTheirPerFragmentTwinInEveryShape) {
     EXPECT_GT(drawn, 61u * 47u / 2);
     for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(expected[k] == result[k]) << "attachment " << k;
   }
+}
+
+// Slivers: triangles a pixel or so wide and 8 to 40 long at any angle, in a 61x47 framebuffer. Most
+// of their (tile, triangle) pairs cover a pixel or two in each of many rows, so the CPU rasterizer
+// shades them as packed spans (raster.cl), while GPU shapes shade one pixel at a time.
+io::Mesh slivers(int count, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const float pixel_x = 2.0f / 61.0f, pixel_y = 2.0f / 47.0f;
+  io::Mesh mesh;
+  for (int i = 0; i < count; ++i) {
+    const float cx = unit(random) * 2 - 1, cy = unit(random) * 2 - 1, angle = unit(random) * 6.2832f;
+    const float length = 8 + 32 * unit(random), width = 0.3f + 1.5f * unit(random);
+    const float dx = std::cos(angle), dy = std::sin(angle);
+    const std::array<std::array<float, 2>, 3> corners = {{{cx - dx * length / 2 * pixel_x, cy - dy * length / 2 * pixel_y},
+                                                          {cx + dx * length / 2 * pixel_x, cy + dy * length / 2 * pixel_y},
+                                                          {cx - dy * width * pixel_x, cy + dx * width * pixel_y}}};
+    for (const auto& corner : corners) {
+      mesh.positions.insert(mesh.positions.end(), {corner[0], corner[1], unit(random) * 1.8f - 0.9f});
+      mesh.normals.insert(mesh.normals.end(), {unit(random) - 0.5f, unit(random) - 0.5f, unit(random) - 0.5f});
+      mesh.indices.push_back(static_cast<std::uint32_t>(mesh.indices.size()));
+    }
+  }
+  return mesh;
+}
+
+// Packed spans (a pair's scattered pixels in one span) write the bits that spans of one pixel write:
+// the interpolation, the fragment's coordinates and the integer output of both program forms, and
+// the depth and stencil tests, blending and framebuffer fetch of a per-fragment program.
+TEST(PackedSpans, WriteTheBitsOfOnePixelSpans) {
+  const io::Mesh mesh = slivers(400, 5);
+  std::vector<std::vector<std::vector<std::byte>>> inputs;
+  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
+    for (bool per_span : {false, true}) {
+      inputs.push_back(render_inputs(*context, Program(*context, inputs_program(per_span), "inputs.cl"), mesh));
+    }
+  }
+  for (std::size_t k = 0; k < inputs[0].size(); ++k) {
+    EXPECT_TRUE(inputs[0][k] == inputs[2][k]) << "per-fragment program, attachment " << k;
+    EXPECT_TRUE(inputs[1][k] == inputs[3][k]) << "span program, attachment " << k;
+  }
+
+  const char* const blended = R"(
+clr_attribute(float3, position)
+clr_varying(float, tone)
+clr_output(float4, color)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.0f);
+  v->out.tone = v->in.position.x * 0.5f + 0.5f;
+}
+void fragment(clr_fragment* f) {
+  const float4 under = clr_framebuffer_fetch(f, 0);
+  f->out.color = (float4)(f->in.tone, under.x * 0.5f + 0.25f, f->frag_coord.y / 47.0f, 0.6f);
+}
+)";
+  struct Result {
+    std::vector<std::byte> color;
+    std::vector<float> depth;
+    std::vector<std::uint8_t> stencil;
+  };
+  std::vector<Result> results;
+  std::size_t stenciled = 0;
+  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
+    const Program program(*context, blended, "blended.cl");
+    const Buffer positions(*context, mesh.positions);
+    const IndexBuffer indices(*context, mesh.indices);
+    Texture color(*context, 61, 47, Format::RGBA8), depth(*context, 61, 47, Format::Depth32FStencil8);
+    Framebuffer target(*context, {&color}, &depth);
+    target.clear({0.1f, 0.2f, 0.3f, 1.0f}, 1.0f);
+    DrawCall call;
+    call.program = &program;
+    call.attributes = {{"position", &positions, AttributeType::Float3}};
+    call.indices = &indices;
+    call.state.stencil_test = true;
+    call.state.stencil_front = {CompareFunc::Always, 0, 0xff, 0xff, StencilOp::Keep, StencilOp::Increment,
+                                StencilOp::IncrementWrap};
+    call.state.stencil_back = call.state.stencil_front;
+    call.state.blend[0] = {true, BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
+                           BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::Zero, {true, true, true, true}};
+    target.draw(call);
+    call.state.depth_func = CompareFunc::LessEqual;  // the same slivers again: their fragments pass
+    target.draw(call);
+    results.push_back({color.read(), target.read_depth(), target.read_stencil()});
+    for (std::uint8_t s : results.back().stencil) stenciled += s >= 2;
+  }
+  EXPECT_GT(stenciled, 2u * 200u);  // the second draw passed where the first did, in both shapes
+  EXPECT_TRUE(results[0].color == results[1].color);
+  EXPECT_TRUE(results[0].depth == results[1].depth);
+  EXPECT_TRUE(results[0].stencil == results[1].stencil);
 }
 
 // A depth-only pass (a shadow map's): a program with no outputs writes depth and leaves any colour

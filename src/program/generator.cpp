@@ -182,7 +182,7 @@ CLR_INLINE void clr_gather_outputs(const clr_fragment* f, int lane, clr_span_out
 CLR_INLINE void clr_span_program_inputs(const __local SetupTriangle* t, const clr_span_float* values, clr_span_varyings* v);
 CLR_INLINE void clr_span_program_results(const clr_span_program_outputs* out, clr_span_outputs* outputs);
 CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,
-                                  __local uint* tile, uint first_pixel, __constant const DrawUniforms* u);
+                                  __local uint* tile, const clr_span_place* place, __constant const DrawUniforms* u);
 
 )";
 
@@ -306,12 +306,12 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
   }
   out << "}\n\n"
       << "CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outputs, clr_span_int written,\n"
-      << "                                  __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {\n";
+      << "                                  __local uint* tile, const clr_span_place* place, __constant const DrawUniforms* u) {\n";
   for (std::size_t k = 0; k < in.outputs.size(); ++k) {
     const ProgramVariable& o = in.outputs[k];
     // Only float outputs take the fragment: the program's blend function may read it.
     out << "  " << (o.type == "float4" ? "clr_merge_float_output(f, " : "clr_merge_integer_output(") << k
-        << ", outputs->" << o.name << ", written, tile, first_pixel, u);\n";
+        << ", outputs->" << o.name << ", written, tile, place, u);\n";
   }
   out << "}\n";
 }

@@ -146,7 +146,63 @@ CLR_INLINE void clr_span_set_bits_lane(clr_span_bits* bits, int lane, uint4 valu
 /* The rasterizer's tile (raster.cl) holds each colour attachment channel by channel, so that a span
  * of one channel is one vector: channel c of attachment k at the tile's pixel p is word
  * CLR_TILE_WORD(k, c, p). */
-#define CLR_TILE_WORD(target, channel, pixel) (((target) * 4 + (channel)) * CLR_TILE_SIZE * CLR_TILE_SIZE + (pixel))
+#define CLR_TILE_SPARE_PIXEL (CLR_TILE_SIZE * CLR_TILE_SIZE)
+#define CLR_TILE_CHANNEL_WORDS (CLR_TILE_SIZE * CLR_TILE_SIZE + CLR_SPAN_PIXELS)
+#define CLR_TILE_WORD(target, channel, pixel) (((target) * 4 + (channel)) * CLR_TILE_CHANNEL_WORDS + (pixel))
+
+/* Where a span's lanes are in the tile: a row span's are CLR_SPAN_PIXELS pixels of a row from the
+ * tile's pixel `first`, at window coordinates (x, y); a packed span's are any pixels of the tile,
+ * `pixels` lane by lane at (xs, ys), lanes without one at the spare pixel CLR_TILE_SPARE_PIXEL. */
+typedef struct {
+  int x, y;
+  uint first;
+  clr_span_int xs, ys;
+  clr_span_uint pixels;
+  bool packed;
+} clr_span_place;
+/* Each lane's window coordinates, and its pixel in the tile. */
+#define CLR_PLACE_X(place) ((place).packed ? (place).xs : (place).x + CLR_SPAN_LANES)
+#define CLR_PLACE_Y(place) ((place).packed ? (place).ys : (clr_span_int)((place).y))
+#define CLR_PLACE_LANE_X(place, lane) ((place).packed ? CLR_SPAN_LANE(int, (place).xs, lane) : (place).x + (lane))
+#define CLR_PLACE_LANE_Y(place, lane) ((place).packed ? CLR_SPAN_LANE(int, (place).ys, lane) : (place).y)
+#define CLR_PLACE_LANE_PIXEL(place, lane) \
+  ((place).packed ? CLR_SPAN_LANE(uint, (place).pixels, lane) : (place).first + (uint)(lane))
+
+#if CLR_SPAN_PIXELS == 1
+#define CLR_SPAN_GATHER(array, index) ((array)[index])
+#define CLR_SPAN_SCATTER(value, array, index) ((array)[index] = (value))
+#else
+#define CLR_SPAN_GATHER(array, index)                                                                        \
+  ((__typeof__(vload8(0, array)))((array)[(index).s0], (array)[(index).s1], (array)[(index).s2],              \
+                                  (array)[(index).s3], (array)[(index).s4], (array)[(index).s5],              \
+                                  (array)[(index).s6], (array)[(index).s7]))
+#define CLR_SPAN_SCATTER(value, array, index)                                            \
+  do {                                                                                   \
+    const __typeof__(value) clr_scattered_ = (value);                                    \
+    (array)[(index).s0] = clr_scattered_.s0;                                             \
+    (array)[(index).s1] = clr_scattered_.s1;                                             \
+    (array)[(index).s2] = clr_scattered_.s2;                                             \
+    (array)[(index).s3] = clr_scattered_.s3;                                             \
+    (array)[(index).s4] = clr_scattered_.s4;                                             \
+    (array)[(index).s5] = clr_scattered_.s5;                                             \
+    (array)[(index).s6] = clr_scattered_.s6;                                             \
+    (array)[(index).s7] = clr_scattered_.s7;                                             \
+  } while (0)
+#endif
+/* A span of the tile array `array` (one channel, depth or stencil) at `place`; and `value` stored
+ * there as `type`s where `mask`, `stored` (what the span held) elsewhere. A packed span stores its other lanes
+ * at the spare pixel instead, and needs no `stored`: they may hold any pixel, or none. */
+#define CLR_TILE_LOAD(array, place) \
+  ((place).packed ? CLR_SPAN_GATHER(array, (place).pixels) : CLR_SPAN_LOAD(&(array)[(place).first]))
+#define CLR_TILE_UPDATE(type, stored, value, mask, array, place)                                      \
+  do {                                                                                               \
+    if ((place).packed) {                                                                            \
+      const clr_span_uint clr_pixels_ = select((clr_span_uint)(CLR_TILE_SPARE_PIXEL), (place).pixels, mask); \
+      CLR_SPAN_SCATTER(CLR_SPAN_CONVERT(type, value), array, clr_pixels_);                          \
+    } else {                                                                                         \
+      CLR_SPAN_STORE(CLR_SPAN_CONVERT(type, select(stored, value, mask)), &(array)[(place).first]);  \
+    }                                                                                                \
+  } while (0)
 CLR_INLINE uint4 clr_tile_pixel(__local const uint* tile, uint target, uint pixel) {
   return (uint4)(tile[CLR_TILE_WORD(target, 0, pixel)], tile[CLR_TILE_WORD(target, 1, pixel)],
                  tile[CLR_TILE_WORD(target, 2, pixel)], tile[CLR_TILE_WORD(target, 3, pixel)]);

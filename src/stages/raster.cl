@@ -7,9 +7,10 @@
  * work-item, the only one to touch its attachments, so there are no atomics on them and every run
  * gives the same result. How many work-items a group has is the device's choice (CLR_RASTER_GROUP):
  * one per pixel on GPUs, few on CPUs, each then walking its pixels, visiting only the pixels each
- * triangle's mask has, a span of CLR_SPAN_PIXELS pixels of a row at a time (fragment_ops.cl): the
- * span's interpolation, tests, blending and merge into the tile are vector operations, and only the
- * fragment program runs per fragment.
+ * triangle's mask has, a span of CLR_SPAN_PIXELS pixels of a row at a time (fragment_ops.cl), or,
+ * where a triangle covers few pixels of many rows of the tile, of its pixels packed eight to a span
+ * whatever their rows (packed spans, process_packed_span): the span's interpolation, tests, blending
+ * and merge into the tile are vector operations, and only a per-fragment program runs per fragment.
  *
  * Per fragment, in OpenGL's order: the fragment program, the stencil test, the depth test (with
  * their stencil operations and depth write), then blending, the write mask and conversion to the
@@ -53,9 +54,11 @@ static inline uint lanes_to_bits(long8 inside) {
  * positive there, or zero on an edge that includes its centres (SetupTriangle's flags): E > 0 is
  * E - 1 >= 0 in integers, so subtracting 1 from the edges without the flag makes the test a sign
  * test, and one sign test of the three values OR-ed together tests them all. Eight pixels of a row
- * at a time, in 64-bit vectors: exact, and what vector units (and PoCL's compiler) do best. */
-static inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local ulong* mask) {
+ * at a time, in 64-bit vectors: exact, and what vector units (and PoCL's compiler) do best. *packed:
+ * whether the covered pixels take fewer spans packed than in rows (process_packed_span). */
+static inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __local ulong* mask, __local bool* packed) {
   for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) mask[w] = 0;
+  *packed = false;
   const int2 lo = max((int2)((int)(t->pixel_min & 0xffffu), (int)(t->pixel_min >> 16)), origin);
   const int2 hi = min((int2)((int)(t->pixel_max & 0xffffu), (int)(t->pixel_max >> 16)), origin + (CLR_TILE_SIZE - 1));
   if (lo.x > hi.x || lo.y > hi.y) return;
@@ -79,6 +82,7 @@ static inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __
       return;
     }
   }
+  uint pixels = 0, row_spans = 0;
   for (int chunk = (lo.x - origin.x) / 8; chunk <= (hi.x - origin.x) / 8; ++chunk) {
     const int8 xs = (int8)(origin.x + chunk * 8) + (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     const long8 X = convert_long8(xs) << CLR_SUBPIXEL_BITS;
@@ -94,8 +98,11 @@ static inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __
       const uint bits = lanes_to_bits(((e0 | e1 | e2) >= (long8)(0)) & in_box);
       const int first = (y - origin.y) * CLR_TILE_SIZE + chunk * 8;
       mask[first / 64] |= (ulong)bits << (first % 64);
+      pixels += popcount(bits);
+      row_spans += bits != 0;
     }
   }
+  *packed = CLR_SPAN_PIXELS > 1 && (pixels + CLR_SPAN_PIXELS - 1) / CLR_SPAN_PIXELS < row_spans;
 }
 
 /* Bit p of word w set where the tile's pixel 64 w + p is this work-item's: the pixels of span s (a
@@ -212,15 +219,15 @@ CLR_INLINE clr_span_uint pack_rgba8_span(__local const uint* tile_channels, bool
 }
 
 /* A colour attachment's span in the tile, and the span written back where `written` is true. */
-CLR_INLINE void load_tile_span(__local const uint* tile, uint target, uint first_pixel, clr_span_bits* bits) {
+CLR_INLINE void load_tile_span(__local const uint* tile, uint target, const clr_span_place* place, clr_span_bits* bits) {
 #pragma unroll
-  for (int c = 0; c < 4; ++c) bits->c[c] = CLR_SPAN_LOAD(&tile[CLR_TILE_WORD(target, c, first_pixel)]);
+  for (int c = 0; c < 4; ++c) bits->c[c] = CLR_TILE_LOAD(&tile[CLR_TILE_WORD(target, c, 0)], *place);
 }
-CLR_INLINE void store_tile_span(__local uint* tile, uint target, uint first_pixel, clr_span_bits stored,
+CLR_INLINE void store_tile_span(__local uint* tile, uint target, const clr_span_place* place, clr_span_bits stored,
                                 clr_span_bits value, clr_span_int written) {
 #pragma unroll
   for (int c = 0; c < 4; ++c) {
-    CLR_SPAN_STORE(select(stored.c[c], value.c[c], written), &tile[CLR_TILE_WORD(target, c, first_pixel)]);
+    CLR_TILE_UPDATE(uint, stored.c[c], value.c[c], written, &tile[CLR_TILE_WORD(target, c, 0)], *place);
   }
 }
 
@@ -229,12 +236,12 @@ CLR_INLINE void store_tile_span(__local uint* tile, uint target, uint first_pixe
  * the fragment, for the program's depth test (spans of one pixel, fragment_ops.cl). */
 CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_span_int covered,
                                        clr_span_float frag_depth, __constant const DrawUniforms* u, __local float* depth,
-                                       __local uchar* stencil) {
+                                       __local uchar* stencil, const clr_span_place* place) {
   __constant const StencilUniforms* s = &u->stencil[front_facing ? 0 : 1];
-  const clr_span_uint stored_stencil = CLR_SPAN_CONVERT(uint, CLR_SPAN_LOAD(stencil));
+  const clr_span_uint stored_stencil = CLR_SPAN_CONVERT(uint, CLR_TILE_LOAD(stencil, *place));
   const clr_span_int stencil_passes = u->stencil_test ? clr_stencil_test(*s, stored_stencil) : CLR_SPAN_TRUE;
   clr_span_int depth_passes = CLR_SPAN_TRUE;
-  const clr_span_float stored_depth = CLR_SPAN_LOAD(depth);
+  const clr_span_float stored_depth = CLR_TILE_LOAD(depth, *place);
   if (u->depth_test) {
 #if CLR_PROGRAM_DEPTH_TEST
     if (u->depth_func == CLR_COMPARE_PROGRAM) {
@@ -245,10 +252,10 @@ CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_s
   }
   if (u->stencil_test) {
     const clr_span_uint updated = clr_stencil_after_tests(*s, stencil_passes, depth_passes, stored_stencil);
-    CLR_SPAN_STORE(CLR_SPAN_CONVERT(uchar, select(stored_stencil, updated, covered)), stencil);
+    CLR_TILE_UPDATE(uchar, stored_stencil, updated, covered, stencil, *place);
   }
   const clr_span_int passed = covered && stencil_passes && depth_passes;
-  if (u->depth_test && u->depth_write) CLR_SPAN_STORE(select(stored_depth, frag_depth, passed), depth);
+  if (u->depth_test && u->depth_write) CLR_TILE_UPDATE(float, stored_depth, frag_depth, passed, depth, *place);
   return passed;
 }
 
@@ -257,10 +264,14 @@ CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_s
  * for channels whose equation is CLR_BLEND_PROGRAM), the write mask, and quantization to the
  * attachment's format. */
 CLR_INLINE void merge_float_output(clr_fragment* f, uint target, int format, BlendUniforms b, clr_span_color source,
-                                   clr_span_int written, __local uint* tile, uint first_pixel,
+                                   clr_span_int written, __local uint* tile, const clr_span_place* place,
                                    __constant const DrawUniforms* u) {
-  clr_span_bits stored;
-  load_tile_span(tile, target, first_pixel, &stored);
+  /* A packed span stores its written lanes only (CLR_TILE_UPDATE): it reads the tile where the
+   * blend or the write mask does. */
+  clr_span_bits stored = {0};
+  if (!place->packed || CLR_READS_FRAMEBUFFER || b.enabled || (b.write_mask & 0xfu) != 0xfu) {
+    load_tile_span(tile, target, place, &stored);
+  }
   const clr_span_color destination = CLR_SPAN_BITS_COLOR(stored);
   clr_span_color result = source;
   /* The tile keeps what a store then a load of the attachment would give only where the draw reads
@@ -300,13 +311,13 @@ CLR_INLINE void merge_float_output(clr_fragment* f, uint target, int format, Ble
       clr_span_set_color_lane(&result, lane, clr_quantize_float(format, clr_span_color_lane(result, lane)));
     }
   }
-  store_tile_span(tile, target, first_pixel, stored, CLR_SPAN_COLOR_BITS(result), written);
+  store_tile_span(tile, target, place, stored, CLR_SPAN_COLOR_BITS(result), written);
 }
 
 /* merge_float_output with the attachment's format and blend state; a common blend (types.h) on
  * RGBA8 with the state as constants, so that the compiler leaves only its arithmetic. */
 CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_color source, clr_span_int written,
-                                       __local uint* tile, uint first_pixel, __constant const DrawUniforms* u) {
+                                       __local uint* tile, const clr_span_place* place, __constant const DrawUniforms* u) {
   const int format = u->target_format[target];
   if (format < 0) return;
   const BlendUniforms b = u->blend[target];
@@ -315,23 +326,23 @@ CLR_INLINE void clr_merge_float_output(clr_fragment* f, uint target, clr_span_co
   case index: {                                                                                                 \
     const BlendUniforms common = {1, equation, equation, source_factor, destination_factor, source_factor,        \
                                   destination_factor, b.write_mask, index};                                     \
-    merge_float_output(f, target, CLR_FORMAT_RGBA8, common, source, written, tile, first_pixel, u);            \
+    merge_float_output(f, target, CLR_FORMAT_RGBA8, common, source, written, tile, place, u);            \
     return;                                                                                                     \
   }
     CLR_COMMON_BLENDS(CLR_COMMON_BLEND_MERGE)
 #undef CLR_COMMON_BLEND_MERGE
-    default: merge_float_output(f, target, format, b, source, written, tile, first_pixel, u);
+    default: merge_float_output(f, target, format, b, source, written, tile, place, u);
   }
 }
 
 /* Output `target` into an integer attachment: no blending (as in OpenGL), the write mask only. */
 CLR_INLINE void clr_merge_integer_output(uint target, clr_span_bits value, clr_span_int written, __local uint* tile,
-                                         uint first_pixel, __constant const DrawUniforms* u) {
+                                         const clr_span_place* place, __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
-  clr_span_bits stored;
-  load_tile_span(tile, target, first_pixel, &stored);
+  clr_span_bits stored = {0};
+  if (!place->packed || (u->blend[target].write_mask & 0xfu) != 0xfu) load_tile_span(tile, target, place, &stored);
   clr_apply_write_mask(u->blend[target].write_mask, &value, stored);
-  store_tile_span(tile, target, first_pixel, stored, value, written);
+  store_tile_span(tile, target, place, stored, value, written);
 }
 
 /* What a span's fragments interpolate from: the barycentrics of the unsnapped triangle in screen
@@ -350,26 +361,48 @@ typedef struct {
  * (raster stage of model-50k 22.2 -> 20.4 ms, terrain-1m 46.6 -> 41.4). The grid is fixed, and the
  * step an explicit fma, so that a pixel gets the same weights from every span shape that shades it
  * (spans of one pixel on GPUs and in quad shading, of eight on CPUs), and so the same picture. */
-CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, int x, int y, span_weights* w) {
-  const int grid_x = x & ~(CLR_CPU_SPAN_PIXELS - 1);
-  const long X = (long)grid_x << CLR_SUBPIXEL_BITS;
-  const long Y = (long)y << CLR_SUBPIXEL_BITS;
-  const float unsnapped_x = (float)(grid_x << CLR_SUBPIXEL_BITS);
-  const float unsnapped_y = (float)(y << CLR_SUBPIXEL_BITS);
-  const clr_span_float steps = CLR_SPAN_CONVERT(float, (x - grid_x) + CLR_SPAN_LANES);
+/* Edge k's weight at grid points (X, Y), in subpixels, as the unsnapped triangle's: E for the vertices
+ * before snapping, since barycentrics of the snapped triangle are off by up to 1/512 pixel over the
+ * distance to an edge, which perspective magnifies (1e-3 of the texture coordinates near a horizon),
+ * and llvmpipe interpolates with the unsnapped ones. A macro, for one grid point (scalars: a row
+ * span's, which the compiler keeps scalar) and for one per lane (span vectors: a packed span's), in
+ * the same operations, so the same bits. */
+#define CLR_WEIGHT_AT_GRID(t, k, X, Y, unsnapped_x, unsnapped_y, convert_to_float)                          \
+  ((convert_to_float((long)(t)->edge_a[k] * (X) + (long)(t)->edge_b[k] * (Y) + (t)->edge_c[k]) +             \
+    ((t)->edge_correction[k][0] * (unsnapped_x) + (t)->edge_correction[k][1] * (unsnapped_y) +               \
+     (t)->edge_correction[k][2])) *                                                                          \
+   (t)->inv_double_area)
+#define CLR_FLOAT_OF_LONG(value) ((float)(value))
+#define CLR_SPAN_FLOAT_OF_LONG(value) CLR_SPAN_CONVERT(float, value)
+
+CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, const clr_span_place* place, span_weights* w) {
+  /* Each lane steps from its grid point. */
+  clr_span_float steps;
+  clr_span_float at_grid[3];
+  if (place->packed) {
+    const clr_span_int grid_x = place->xs & ~(CLR_CPU_SPAN_PIXELS - 1);
+    const clr_span_long X = CLR_SPAN_CONVERT(long, grid_x) << CLR_SUBPIXEL_BITS;
+    const clr_span_long Y = CLR_SPAN_CONVERT(long, place->ys) << CLR_SUBPIXEL_BITS;
+    const clr_span_float unsnapped_x = CLR_SPAN_CONVERT(float, grid_x << CLR_SUBPIXEL_BITS);
+    const clr_span_float unsnapped_y = CLR_SPAN_CONVERT(float, place->ys << CLR_SUBPIXEL_BITS);
+    steps = CLR_SPAN_CONVERT(float, place->xs - grid_x);
+#pragma unroll
+    for (int k = 0; k < 3; ++k) at_grid[k] = CLR_WEIGHT_AT_GRID(t, k, X, Y, unsnapped_x, unsnapped_y, CLR_SPAN_FLOAT_OF_LONG);
+  } else {
+    const int grid_x = place->x & ~(CLR_CPU_SPAN_PIXELS - 1);
+    const long X = (long)grid_x << CLR_SUBPIXEL_BITS;
+    const long Y = (long)place->y << CLR_SUBPIXEL_BITS;
+    const float unsnapped_x = (float)(grid_x << CLR_SUBPIXEL_BITS);
+    const float unsnapped_y = (float)(place->y << CLR_SUBPIXEL_BITS);
+    steps = CLR_SPAN_CONVERT(float, (place->x - grid_x) + CLR_SPAN_LANES);
+#pragma unroll
+    for (int k = 0; k < 3; ++k) at_grid[k] = CLR_WEIGHT_AT_GRID(t, k, X, Y, unsnapped_x, unsnapped_y, CLR_FLOAT_OF_LONG);
+  }
 #pragma unroll
   for (int k = 0; k < 3; ++k) {
-    /* E for the vertices before snapping: barycentrics of the snapped triangle are off by up to
-     * 1/512 pixel over the distance to an edge, which perspective magnifies (1e-3 of the texture
-     * coordinates near a horizon), and llvmpipe interpolates with the unsnapped ones. */
-    const long e = (long)t->edge_a[k] * X + (long)t->edge_b[k] * Y + t->edge_c[k];
-    const float correction =
-        t->edge_correction[k][0] * unsnapped_x + t->edge_correction[k][1] * unsnapped_y + t->edge_correction[k][2];
-    const float unsnapped = (float)e + correction;
-    const float at_grid = unsnapped * t->inv_double_area;
     const float per_pixel = ((float)t->edge_a[k] + t->edge_correction[k][0]) * (float)CLR_SUBPIXEL_ONE;
     const float step = per_pixel * t->inv_double_area;
-    w->l[k] = fma(steps, (clr_span_float)(step), (clr_span_float)(at_grid));
+    w->l[k] = fma(steps, (clr_span_float)(step), at_grid[k]);
   }
   /* Depth is linear in window space; OpenGL clamps it to the depth range. */
   w->z = clamp(w->l[0] * t->z[0] + w->l[1] * t->z[1] + w->l[2] * t->z[2], 0.0f, 1.0f);
@@ -404,18 +437,19 @@ CLR_INLINE void interpolate_span(const __local SetupTriangle* t, span_weights w,
 /* The fragment of triangle t in lane `lane` of the span from (x, y), the tile's pixel
  * first_pixel + lane, from the span's interpolants. helper: a helper invocation of quad shading. */
 CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, span_weights w,
-                               const span_interpolants* s, int lane, int x, int y, uint first_pixel, bool helper) {
+                               const span_interpolants* s, int lane, const clr_span_place* place, bool helper) {
   const float3 pw = (float3)(CLR_SPAN_LANE(float, s->pw[0], lane), CLR_SPAN_LANE(float, s->pw[1], lane),
                              CLR_SPAN_LANE(float, s->pw[2], lane));
   const float z = CLR_SPAN_LANE(float, w.z, lane);
-  f->frag_coord = (float4)((float)(x + lane) + 0.5f, (float)y + 0.5f, z, CLR_SPAN_LANE(float, s->inv_w, lane));
+  f->frag_coord = (float4)((float)CLR_PLACE_LANE_X(*place, lane) + 0.5f, (float)CLR_PLACE_LANE_Y(*place, lane) + 0.5f, z,
+                           CLR_SPAN_LANE(float, s->inv_w, lane));
   f->barycentric = pw * CLR_SPAN_LANE(float, s->norm, lane);
   f->frag_depth = z;
   f->primitive_id = t->primitive_id;
   f->front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
   f->helper = helper;
   f->discarded = false;
-  f->clr_lane = first_pixel + (uint)lane;
+  f->clr_lane = CLR_PLACE_LANE_PIXEL(*place, lane);
   const clr_outputs no_outputs = {0};
   f->out = no_outputs;
   clr_lane_varyings(t, s->varyings, lane, &f->in);
@@ -431,11 +465,12 @@ CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, 
  * stage of model-50k 34.6 -> 30.6 ms, terrain-1m 73.9 -> 63.0. f: the fragment whose resources
  * (uniforms, textures, buffers) it takes. */
 CLR_INLINE void shade_span(const clr_fragment* f, const __local SetupTriangle* t, span_weights w,
-                           const span_interpolants* s, int x, int y, clr_span_int written, clr_span_outputs* outputs) {
+                           const span_interpolants* s, const clr_span_place* place, clr_span_int written,
+                           clr_span_outputs* outputs) {
   clr_span_fragment g;
   clr_span_program_inputs(t, s->varyings, &g.in);
-  g.frag_coord.x = CLR_SPAN_CONVERT(float, x + CLR_SPAN_LANES) + 0.5f;
-  g.frag_coord.y = (clr_span_float)((float)y + 0.5f);
+  g.frag_coord.x = CLR_SPAN_CONVERT(float, CLR_PLACE_X(*place)) + 0.5f;
+  g.frag_coord.y = CLR_SPAN_CONVERT(float, CLR_PLACE_Y(*place)) + 0.5f;
   g.frag_coord.z = w.z;
   g.frag_coord.w = s->inv_w;
   g.barycentric.x = s->pw[0] * s->norm;
@@ -455,24 +490,22 @@ CLR_INLINE void shade_span(const clr_fragment* f, const __local SetupTriangle* t
 #elif CLR_EARLY_TESTS
 /* Runs the program for lane `lane` of a span whose tests passed there, and gathers its outputs. */
 CLR_INLINE void shade_lane(clr_fragment* f, const __local SetupTriangle* t, span_weights w, const span_interpolants* s,
-                           int lane, int x, int y, uint first_pixel, bool program_depth_test,
+                           int lane, const clr_span_place* place, bool program_depth_test,
                            clr_span_outputs* outputs) {
-  if (!program_depth_test) start_fragment(f, t, w, s, lane, x, y, first_pixel, false);
+  if (!program_depth_test) start_fragment(f, t, w, s, lane, place, false);
   fragment(f);
   clr_gather_outputs(f, lane, outputs);
 }
 #endif
 
-/* The fragments of triangle t in the span of the tile from its pixel first_pixel, at (x, y), where
- * `covered` (writable pixels the triangle covers). In quad shading (spans of one pixel), an
- * uncovered pixel runs the program as a helper. */
-CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint first_pixel, clr_span_int covered,
+/* The fragments of triangle t in the span of the tile at `place`, where `covered` (writable pixels the
+ * triangle covers). In quad shading (spans of one pixel), an uncovered pixel runs the program as a
+ * helper. */
+CLR_INLINE void process_span(const __local SetupTriangle* t, const clr_span_place* place, clr_span_int covered,
                              clr_fragment* f, __local uint* tile_color, __local float* tile_depth,
                              __local uchar* tile_stencil, __constant const DrawUniforms* u) {
   span_weights w = {0};
   const bool front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
-  __local float* depth = &tile_depth[first_pixel];
-  __local uchar* stencil = &tile_stencil[first_pixel];
   clr_span_outputs outputs = {0};
   span_interpolants s;
 #if CLR_EARLY_TESTS
@@ -482,26 +515,26 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
    * Hidden fragments skip the program and the interpolation, unless the program's depth test may
    * read them (spans of one pixel). */
   const bool weighed_before_tests = u->depth_test;
-  if (weighed_before_tests) interpolation_weights(t, x, y, &w);
+  if (weighed_before_tests) interpolation_weights(t, place, &w);
 #if CLR_PROGRAM_DEPTH_TEST
   const bool program_depth_test = u->depth_test && u->depth_func == CLR_COMPARE_PROGRAM;
   if (program_depth_test) {
     interpolate_span(t, w, &s);
-    start_fragment(f, t, w, &s, 0, x, y, first_pixel, false);
+    start_fragment(f, t, w, &s, 0, place, false);
   }
 #else
   const bool program_depth_test = false;
 #endif
-  const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, depth, stencil);
+  const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, tile_depth, tile_stencil, place);
   const uint passed = clr_span_bits_of_lanes(written);
   /* Two ifs, not one &&: program_depth_test is a constant in most programs, and clang warns about
    * && with a constant operand on stderr, which the examples require to be empty. */
   if (passed != 0) {
-    if (!weighed_before_tests) interpolation_weights(t, x, y, &w);
+    if (!weighed_before_tests) interpolation_weights(t, place, &w);
     if (!program_depth_test) interpolate_span(t, w, &s); /* a program's depth test had it done first */
   }
 #if CLR_SPAN_PROGRAM
-  if (passed != 0) shade_span(f, t, w, &s, x, y, written, &outputs);
+  if (passed != 0) shade_span(f, t, w, &s, place, written, &outputs);
 #else
   /* A per-fragment program runs for the lanes that passed only, in order: a span of a small
    * triangle has one or two. A span that passed whole takes the lanes in an unrolled loop instead:
@@ -512,16 +545,16 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
   if (passed == (uint)CLR_SPAN_BITS) {
 #pragma unroll
     for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
-      shade_lane(f, t, w, &s, lane, x, y, first_pixel, program_depth_test, &outputs);
+      shade_lane(f, t, w, &s, lane, place, program_depth_test, &outputs);
     }
   } else {
     for (uint lanes = passed; lanes != 0; lanes &= lanes - 1) {
-      shade_lane(f, t, w, &s, 31 - clz(lanes & (0 - lanes)), x, y, first_pixel, program_depth_test, &outputs);
+      shade_lane(f, t, w, &s, 31 - clz(lanes & (0 - lanes)), place, program_depth_test, &outputs);
     }
   }
 #endif
 #else
-  interpolation_weights(t, x, y, &w);
+  interpolation_weights(t, place, &w);
   clr_span_int kept = covered;
   clr_span_float frag_depth = w.z;
   interpolate_span(t, w, &s);
@@ -530,7 +563,7 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
 #if !CLR_QUAD_SHADING /* quad shading runs the program for uncovered pixels too, as helpers */
     if (!live) continue;
 #endif
-    start_fragment(f, t, w, &s, lane, x, y, first_pixel, !live);
+    start_fragment(f, t, w, &s, lane, place, !live);
     fragment(f);
     if (!live || f->discarded) {
       CLR_SPAN_SET_LANE(kept, lane, 0);
@@ -539,10 +572,30 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, int x, int y, uint 
     CLR_SPAN_SET_LANE(frag_depth, lane, clamp(f->frag_depth, 0.0f, 1.0f));
     clr_gather_outputs(f, lane, &outputs);
   }
-  const clr_span_int written = fragment_tests(f, front_facing, kept, frag_depth, u, depth, stencil);
+  const clr_span_int written = fragment_tests(f, front_facing, kept, frag_depth, u, tile_depth, tile_stencil, place);
 #endif
-  if (clr_span_any(written)) clr_merge_outputs(f, &outputs, written, tile_color, first_pixel, u);
+  if (clr_span_any(written)) clr_merge_outputs(f, &outputs, written, tile_color, place, u);
 }
+
+#if CLR_SPAN_PIXELS > 1
+/* The fragments of triangle t at the tile's pixels `lanes`, its first `filled` lanes (a packed span:
+ * the triangle's pixels of the tile in mask order, eight at a time, instead of a row span for each
+ * row, which for a long thin triangle has a lane or two covered). The lanes past `filled` are at the
+ * spare pixel. */
+CLR_INLINE void process_packed_span(const __local SetupTriangle* t, int2 origin, clr_span_uint lanes, int filled,
+                                    clr_fragment* f, __local uint* tile_color, __local float* tile_depth,
+                                    __local uchar* tile_stencil, __constant const DrawUniforms* u) {
+  clr_span_place place;
+  place.x = 0;
+  place.y = 0;
+  place.first = 0;
+  place.xs = origin.x + CLR_SPAN_AS(int, lanes % CLR_TILE_SIZE);
+  place.ys = origin.y + CLR_SPAN_AS(int, lanes / CLR_TILE_SIZE);
+  place.pixels = lanes;
+  place.packed = true;
+  process_span(t, &place, CLR_SPAN_LANES < filled, f, tile_color, tile_depth, tile_stencil, u);
+}
+#endif
 
 __kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1)))
 void raster_tiles(__global const SetupTriangle* records, __global const SetupTriangle* overflow,
@@ -551,9 +604,11 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
                   uint stencil_offset, uint clears CLR_TARGET_PARAMS CLR_RESOURCE_PARAMS) {
   __local SetupTriangle batch[CLR_RASTER_TRIANGLE_BATCH];
   __local ulong masks[CLR_RASTER_TRIANGLE_BATCH][CLR_TILE_MASK_WORDS]; /* coverage_mask of each */
-  __local uint tile_color[CLR_TILE_TARGETS * 4 * CLR_TILE_PIXELS]; /* CLR_TILE_WORD */
-  __local float tile_depth[CLR_TILE_PIXELS];
-  __local uchar tile_stencil[CLR_TILE_PIXELS];
+  __local bool packed[CLR_RASTER_TRIANGLE_BATCH];                     /* shaded in packed spans */
+  /* Each array with room for packed spans' spare pixel (CLR_TILE_SPARE_PIXEL). */
+  __local uint tile_color[CLR_TILE_TARGETS * 4 * CLR_TILE_CHANNEL_WORDS]; /* CLR_TILE_WORD */
+  __local float tile_depth[CLR_TILE_CHANNEL_WORDS];
+  __local uchar tile_stencil[CLR_TILE_CHANNEL_WORDS];
 #if CLR_QUAD_SHADING
   __local float4 quad_exchange[CLR_TILE_PIXELS];
 #endif
@@ -644,7 +699,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       const uint id = sorted_triangles[base + i];
       batch[i] = (id & CLR_OVERFLOW_TRIANGLE) ? overflow[id & ~CLR_OVERFLOW_TRIANGLE] : records[id];
     }
-    for (uint i = item; i < n; i += CLR_RASTER_GROUP) coverage_mask(&batch[i], origin, masks[i]);
+    for (uint i = item; i < n; i += CLR_RASTER_GROUP) coverage_mask(&batch[i], origin, masks[i], &packed[i]);
     barrier(CLK_LOCAL_MEM_FENCE);
 #if CLR_QUAD_SHADING
     /* One work-item per pixel: every one runs the program for each triangle that covers any pixel
@@ -656,7 +711,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) any |= masks[i][w];
       /* The same decision in every work-item, so all of them reach the program's barriers. */
       if (!any) continue;
-      process_span(&batch[i], x, y, item, clr_span_lanes_from_bits((uint)(masks[i][item / 64] >> (item % 64))), &f,
+      const clr_span_place place = {x, y, item, 0, 0, 0, false};
+      process_span(&batch[i], &place, clr_span_lanes_from_bits((uint)(masks[i][item / 64] >> (item % 64))), &f,
                    tile_color, tile_depth, tile_stencil, u);
       /* What follows the program's last barrier branches per pixel (helper or not, discard, the
        * tests, blending, the program's own code). Those branches must meet again at a barrier before
@@ -669,6 +725,25 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     /* Each work-item shades the fragments of its own pixels, triangle by triangle in primitive
      * order, visiting only the spans each triangle covers. */
     for (uint i = 0; i < n; ++i) {
+#if CLR_SPAN_PIXELS > 1
+      if (packed[i]) {
+        clr_span_uint lanes = (clr_span_uint)(CLR_TILE_SPARE_PIXEL);
+        int filled = 0;
+        for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) {
+          for (ulong bits = masks[i][w] & own_pixels(w, item); bits != 0; bits &= bits - 1) {
+            const uint pixel = (uint)w * 64 + ((63 - clz(bits & (0 - bits))) & 63);
+            lanes = select(lanes, (clr_span_uint)(pixel), CLR_SPAN_LANES == filled);
+            if (++filled == CLR_SPAN_PIXELS) {
+              process_packed_span(&batch[i], origin, lanes, filled, &f, tile_color, tile_depth, tile_stencil, u);
+              lanes = (clr_span_uint)(CLR_TILE_SPARE_PIXEL);
+              filled = 0;
+            }
+          }
+        }
+        if (filled > 0) process_packed_span(&batch[i], origin, lanes, filled, &f, tile_color, tile_depth, tile_stencil, u);
+        continue;
+      }
+#endif
       for (int w = 0; w < CLR_TILE_MASK_WORDS; ++w) {
         ulong bits = masks[i][w] & own_pixels(w, item);
         while (bits != 0) {
@@ -677,9 +752,9 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
           const uint covered = (uint)((bits >> first) & CLR_SPAN_BITS);
           bits &= ~(CLR_SPAN_BITS << first);
           const uint first_pixel = (uint)w * 64 + first;
-          process_span(&batch[i], origin.x + (int)(first_pixel % CLR_TILE_SIZE),
-                       origin.y + (int)(first_pixel / CLR_TILE_SIZE), first_pixel, clr_span_lanes_from_bits(covered), &f,
-                       tile_color, tile_depth, tile_stencil, u);
+          const clr_span_place place = {origin.x + (int)(first_pixel % CLR_TILE_SIZE),
+                                        origin.y + (int)(first_pixel / CLR_TILE_SIZE), first_pixel, 0, 0, 0, false};
+          process_span(&batch[i], &place, clr_span_lanes_from_bits(covered), &f, tile_color, tile_depth, tile_stencil, u);
         }
       }
     }
