@@ -76,7 +76,8 @@
  * walking the tile (its loops vectorized by the compiler where they allow it) is faster (measured). */
 #define CLR_RASTER_CPU_ITEMS 1
 /* Pixels of a tile row such a work-item shades together, one vector lane each (a span, see
- * stages/fragment_ops.cl): one byte of a coverage mask word, and AVX's 8 floats. Spans of 4 were
+ * stages/fragment_ops.cl), or of a thin triangle's rows packed together (raster.cl): one byte of a
+ * coverage mask word, and AVX's 8 floats. Spans of 4 were
  * measured too: large triangles' fragments (fill-16) about 1.4 times slower, small triangles' no
  * faster beyond the noise. */
 #define CLR_CPU_SPAN_PIXELS 8

@@ -12,7 +12,8 @@
  * reads and writes the framebuffer and converts between storage formats and floats. */
 
 /* ---- Spans -----------------------------------------------------------------------------------------
- * The rasterizer processes CLR_SPAN_PIXELS pixels of a tile row together, a span, and the operations
+ * The rasterizer processes CLR_SPAN_PIXELS pixels of a tile row together, a span (or as many pixels
+ * of one triangle anywhere in the tile, a packed span: clr_span_place below), and the operations
  * here work on spans: one vector lane per pixel and one vector per colour channel (structure of
  * arrays), so that one instruction does the work of every pixel of the span, under the draw's state
  * decided once per span. Spans are CLR_CPU_SPAN_PIXELS wide where one work-item walks a whole tile

@@ -434,8 +434,8 @@ CLR_INLINE void interpolate_span(const __local SetupTriangle* t, span_weights w,
   }
 }
 
-/* The fragment of triangle t in lane `lane` of the span from (x, y), the tile's pixel
- * first_pixel + lane, from the span's interpolants. helper: a helper invocation of quad shading. */
+/* The fragment of triangle t in lane `lane` of the span at `place`, from the span's interpolants.
+ * helper: a helper invocation of quad shading. */
 CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, span_weights w,
                                const span_interpolants* s, int lane, const clr_span_place* place, bool helper) {
   const float3 pw = (float3)(CLR_SPAN_LANE(float, s->pw[0], lane), CLR_SPAN_LANE(float, s->pw[1], lane),
