@@ -219,6 +219,12 @@ CLR_INLINE clr_span_uint pack_rgba8_span(__local const uint* tile_channels, bool
 }
 
 /* A colour attachment's span in the tile, and the span written back where `written` is true. */
+/* Whether storing a span of colour needs what the tile holds there: a row span stores every lane,
+ * what it held where not written; a packed span stores its written lanes only (CLR_TILE_UPDATE), and
+ * needs it only for the channels the write mask keeps. */
+static inline bool store_reads_tile(const clr_span_place* place, uint write_mask) {
+  return !place->packed || (write_mask & 0xfu) != 0xfu;
+}
 CLR_INLINE void load_tile_span(__local const uint* tile, uint target, const clr_span_place* place, clr_span_bits* bits) {
 #pragma unroll
   for (int c = 0; c < 4; ++c) bits->c[c] = CLR_TILE_LOAD(&tile[CLR_TILE_WORD(target, c, 0)], *place);
@@ -266,12 +272,8 @@ CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_s
 CLR_INLINE void merge_float_output(clr_fragment* f, uint target, int format, BlendUniforms b, clr_span_color source,
                                    clr_span_int written, __local uint* tile, const clr_span_place* place,
                                    __constant const DrawUniforms* u) {
-  /* A packed span stores its written lanes only (CLR_TILE_UPDATE): it reads the tile where the
-   * blend or the write mask does. */
-  clr_span_bits stored = {0};
-  if (!place->packed || CLR_READS_FRAMEBUFFER || b.enabled || (b.write_mask & 0xfu) != 0xfu) {
-    load_tile_span(tile, target, place, &stored);
-  }
+  clr_span_bits stored = {0}; /* what blending reads too */
+  if (store_reads_tile(place, b.write_mask) || CLR_READS_FRAMEBUFFER || b.enabled) load_tile_span(tile, target, place, &stored);
   const clr_span_color destination = CLR_SPAN_BITS_COLOR(stored);
   clr_span_color result = source;
   /* The tile keeps what a store then a load of the attachment would give only where the draw reads
@@ -340,7 +342,7 @@ CLR_INLINE void clr_merge_integer_output(uint target, clr_span_bits value, clr_s
                                          const clr_span_place* place, __constant const DrawUniforms* u) {
   if (u->target_format[target] < 0) return;
   clr_span_bits stored = {0};
-  if (!place->packed || (u->blend[target].write_mask & 0xfu) != 0xfu) load_tile_span(tile, target, place, &stored);
+  if (store_reads_tile(place, u->blend[target].write_mask)) load_tile_span(tile, target, place, &stored);
   clr_apply_write_mask(u->blend[target].write_mask, &value, stored);
   store_tile_span(tile, target, place, stored, value, written);
 }
@@ -353,14 +355,6 @@ typedef struct {
   clr_span_float z; /* window depth, clamped to the depth range */
 } span_weights;
 
-/* The weights of triangle t for the span of pixels from (x, y) on its row, into *w.
- *
- * Edge k's function E is evaluated exactly (in 64 bits) at every CLR_CPU_SPAN_PIXELS-th pixel centre
- * of a row only, a scalar, and the weights of the pixels after it step from there in floats, one
- * vector multiply-add a span, instead of a 64-bit edge function and its conversion per lane
- * (raster stage of model-50k 22.2 -> 20.4 ms, terrain-1m 46.6 -> 41.4). The grid is fixed, and the
- * step an explicit fma, so that a pixel gets the same weights from every span shape that shades it
- * (spans of one pixel on GPUs and in quad shading, of eight on CPUs), and so the same picture. */
 /* Edge k's weight at grid points (X, Y), in subpixels, as the unsnapped triangle's: E for the vertices
  * before snapping, since barycentrics of the snapped triangle are off by up to 1/512 pixel over the
  * distance to an edge, which perspective magnifies (1e-3 of the texture coordinates near a horizon),
@@ -375,8 +369,16 @@ typedef struct {
 #define CLR_FLOAT_OF_LONG(value) ((float)(value))
 #define CLR_SPAN_FLOAT_OF_LONG(value) CLR_SPAN_CONVERT(float, value)
 
+/* The weights of triangle t for the span at `place`, into *w.
+ *
+ * Edge k's function E is evaluated exactly (in 64 bits) at every CLR_CPU_SPAN_PIXELS-th pixel centre
+ * of a row only, a scalar, and the weights of the pixels after it step from there in floats, one
+ * vector multiply-add a span, instead of a 64-bit edge function and its conversion per lane
+ * (raster stage of model-50k 22.2 -> 20.4 ms, terrain-1m 46.6 -> 41.4). The grid is fixed, and the
+ * step an explicit fma, so that a pixel gets the same weights from every span shape that shades it
+ * (spans of one pixel on GPUs and in quad shading, of eight on CPUs, row or packed), and so the same
+ * picture. A packed span's lanes each step from their own grid point. */
 CLR_INLINE void interpolation_weights(const __local SetupTriangle* t, const clr_span_place* place, span_weights* w) {
-  /* Each lane steps from its grid point. */
   clr_span_float steps;
   clr_span_float at_grid[3];
   if (place->packed) {
