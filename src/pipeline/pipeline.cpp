@@ -228,11 +228,13 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   // the total.
   const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
   const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * frame.setup_triangle_bytes);
+  const cl::Buffer bin_boxes = scratch_.get(Scratch::BinBoxes, std::size_t{count} * 2 * sizeof(cl_uint));
   const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, count_bytes);
   const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
   const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
   ProgramStages& stages = *frame.source->stages;
-  stages.setup.run(queue_, {frame.buffers, slots, shaded, begin, count, records, pair_offsets, clipped_offsets});
+  stages.setup.run(queue_,
+                   {frame.buffers, slots, shaded, begin, count, records, bin_boxes, pair_offsets, clipped_offsets});
   cl_host::fill(queue_, clipped_offsets, cl_uint{0}, count * sizeof(cl_uint), sizeof(cl_uint));
   scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
   std::uint32_t clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
@@ -258,7 +260,7 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   }
   ++stats.chunks;
   stats.tile_triangle_pairs += pairs;
-  if (pairs > 0) bin_and_rasterize(frame, {records, overflow, clipped_offsets, pair_offsets}, count, pairs);
+  if (pairs > 0) bin_and_rasterize(frame, {records, bin_boxes, overflow, clipped_offsets, pair_offsets}, count, pairs);
   return count;
 }
 
@@ -276,7 +278,7 @@ void Pipeline::bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std:
     const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
 
     stages::BinParams bin;
-    bin.records = chunk.records;
+    bin.bin_boxes = chunk.bin_boxes;
     bin.overflow = chunk.overflow;
     bin.clipped_offsets = chunk.clipped_offsets;
     bin.pair_offsets = chunk.pair_offsets;

@@ -112,6 +112,7 @@ class Pipeline {
   // A chunk's set-up triangles, ready for binning.
   struct ChunkTriangles {
     cl::Buffer records;          // per primitive
+    cl::Buffer bin_boxes;        // per primitive, its record's pixel box
     cl::Buffer overflow;         // of clipped primitives
     cl::Buffer clipped_offsets;  // per primitive, into overflow
     cl::Buffer pair_offsets;     // per primitive, of its bin pairs

@@ -12,6 +12,7 @@ namespace clraster::resources {
 enum class Scratch : int {
   ShadedVertices,   // vertex stage output
   Records,          // per primitive of a chunk: its SetupTriangle, when it needs no clipping
+  BinBoxes,         // and that triangle's pixel box, what binning reads of it
   OverflowRecords,  // the SetupTriangles of the chunk's clipped primitives
   ClippedCounts,    // per primitive (+ 1): triangles clipping leaves, then their offsets in OverflowRecords
   PairCounts,       // per primitive (+ 1): tiles its triangles touch, then the offsets of its bin pairs

@@ -9,7 +9,7 @@ namespace clraster::stages {
 
 int BinStage::run(cl_host::Queue& queue, const BinParams& p) {
   queue.set_stage(cl_host::Stage::Binning);
-  cl_host::set_args(emit_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.records, p.overflow,
+  cl_host::set_args(emit_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.bin_boxes, p.overflow,
                     p.clipped_offsets, p.pair_offsets, cl_uint{p.pair_base}, cl_uint{p.tiles_x}, p.tile_keys[0],
                     p.triangle_ids[0]);
   cl_host::enqueue_items(queue, emit_, p.primitive_count, CLR_ITEM_GROUP_SIZE);

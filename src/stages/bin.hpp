@@ -10,7 +10,7 @@
 namespace clraster::stages {
 
 struct BinParams {
-  cl::Buffer records;              // the chunk's per-primitive SetupTriangles
+  cl::Buffer bin_boxes;            // the pixel boxes of the chunk's per-primitive SetupTriangles
   cl::Buffer overflow;             // and those of its clipped primitives
   cl::Buffer clipped_offsets;      // where each primitive's clipped triangles are in overflow
   cl::Buffer pair_offsets;         // exclusive scan of the per-primitive pair counts

@@ -8,7 +8,8 @@ namespace clraster::stages {
 void SetupStage::run(cl_host::Queue& queue, const SetupParams& p) {
   queue.set_stage(cl_host::Stage::Setup);
   cl_host::set_args(setup_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.slots, p.draw->indices,
-                    p.shaded, p.draw->uniforms, p.records, p.pair_counts, p.clipped_counts, p.draw->counters);
+                    p.shaded, p.draw->uniforms, p.records, p.bin_boxes, p.pair_counts, p.clipped_counts,
+                    p.draw->counters);
   cl_host::enqueue_items(queue, setup_, p.primitive_count, CLR_ITEM_GROUP_SIZE);
 }
 

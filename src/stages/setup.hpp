@@ -17,6 +17,7 @@ struct SetupParams {
   std::uint32_t primitive_begin = 0;  // primitive index within the draw
   std::uint32_t primitive_count = 0;
   cl::Buffer records;         // out: the SetupTriangle of each primitive that needs no clipping
+  cl::Buffer bin_boxes;       // out: and its pixel box (uint2: pixel_min, pixel_max), for binning
   cl::Buffer pair_counts;     // out: tiles each primitive's triangles touch (clipped ones: see below)
   cl::Buffer clipped_counts;  // out: triangles clipping leaves of each primitive that crosses a plane
 };
