@@ -5,6 +5,7 @@
 
 #include <CL/opencl.hpp>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -59,6 +60,12 @@ inline std::uint32_t read_uint(Queue& queue, const cl::Buffer& buffer, std::size
   std::uint32_t value = 0;
   queue.get().enqueueReadBuffer(buffer, CL_TRUE, index * sizeof value, sizeof value, &value);
   return value;
+}
+
+// The same for values.size() consecutive values from `index` on, in one read.
+template <std::size_t N>
+void read_uints(Queue& queue, const cl::Buffer& buffer, std::size_t index, std::array<std::uint32_t, N>& values) {
+  queue.get().enqueueReadBuffer(buffer, CL_TRUE, index * sizeof values[0], sizeof values, values.data());
 }
 
 }  // namespace clraster::cl_host

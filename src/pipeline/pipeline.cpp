@@ -7,6 +7,7 @@
 #include "stages/types.h"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <string>
 
@@ -224,8 +225,8 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   }
 
   // Set-up: a record per primitive, and for primitives that cross a clip plane the number of
-  // triangles clipping leaves. Both count arrays get one more entry, zero, whose exclusive scan is
-  // the total.
+  // triangles clipping leaves; bin pair counts for all of them. Both count arrays get one more
+  // entry, zero (set-up writes it), whose exclusive scan is the total.
   const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
   const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * frame.setup_triangle_bytes);
   const cl::Buffer bin_boxes = scratch_.get(Scratch::BinBoxes, std::size_t{count} * 2 * sizeof(cl_uint));
@@ -235,23 +236,32 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   ProgramStages& stages = *frame.source->stages;
   stages.setup.run(queue_,
                    {frame.buffers, slots, shaded, begin, count, records, bin_boxes, pair_offsets, clipped_offsets});
-  cl_host::fill(queue_, clipped_offsets, cl_uint{0}, count * sizeof(cl_uint), sizeof(cl_uint));
-  scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
-  std::uint32_t clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
-  if (clipped > frame.plan.overflow_capacity) {  // more clipping than planned for: shorten the chunk
-    count = last_offset_within(clipped_offsets, 0, count, clipped, 0, frame.plan.overflow_capacity);
-    clipped = read_uint(queue_, clipped_offsets, count);
+
+  // Where each primitive's bin pairs go, and, in the same read, whether any primitive was clipped.
+  scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
+  std::array<std::uint32_t, CLR_COUNTER_COUNT> counters{};
+  cl_host::read_uints(queue_, counters_, 0, counters);
+  std::uint32_t pairs = counters[CLR_COUNTER_SCAN_TOTAL];
+
+  // Clipped primitives (rare, so only scanned when the draw's count of them moved): where their
+  // triangles go in the overflow records.
+  std::uint32_t clipped = 0;
+  if (counters[CLR_COUNTER_CLIPPED] != frame.clipped_primitives) {
+    frame.clipped_primitives = counters[CLR_COUNTER_CLIPPED];
+    scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
+    clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+    if (clipped > frame.plan.overflow_capacity) {  // more clipping than planned for: shorten the chunk
+      count = last_offset_within(clipped_offsets, 0, count, clipped, 0, frame.plan.overflow_capacity);
+      clipped = read_uint(queue_, clipped_offsets, count);
+      pairs = read_uint(queue_, pair_offsets, count);
+    }
   }
   const cl::Buffer overflow =
       scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * frame.setup_triangle_bytes);
   if (clipped > 0) {
-    stages.setup.run_clipped(queue_, {frame.buffers, slots, shaded, begin, count, clipped_offsets, overflow, pair_offsets});
+    stages.setup.run_clipped(queue_, {frame.buffers, slots, shaded, begin, count, clipped_offsets, overflow});
   }
 
-  // Where each primitive's bin pairs go.
-  cl_host::fill(queue_, pair_offsets, cl_uint{0}, count * sizeof(cl_uint), sizeof(cl_uint));
-  scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
-  std::uint32_t pairs = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
   if (pairs == kSaturated) {
     // More bin pairs than 32-bit offsets count (the scan saturated): end the chunk at the last
     // primitive whose offset is still exact; the next chunk starts with the rest.

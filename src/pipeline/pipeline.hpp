@@ -103,6 +103,7 @@ class Pipeline {
     std::size_t shaded_vertex_bytes = 0;
     std::size_t setup_triangle_bytes = 0;
     std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
+    std::uint32_t clipped_primitives = 0;  // CLR_COUNTER_CLIPPED as the last chunk left it
   };
 
   std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);

@@ -3,9 +3,11 @@
  * Almost every primitive is a triangle inside all clip planes: triangle_setup takes its vertices as
  * the vertex stage projected and snapped them, culls it and writes it straight into the primitive's
  * own record, with the number of tiles its bounding box touches (0 when culled). A primitive that
- * crosses a plane (rare) keeps no record there: it only counts the triangles clipping leaves of it;
- * after a scan of those counts, clipped_setup writes them into the overflow records and sums their
- * tiles into the primitive's pair count. The pair counts stay per primitive either way, so the bin
+ * crosses a plane (rare) keeps no record there: it counts the triangles clipping leaves of it and
+ * the tiles they touch, and the draw's CLR_COUNTER_CLIPPED; only when that counter moved does the
+ * host scan the triangle counts and run clipped_setup, which clips those primitives again and writes
+ * their triangles into the overflow records. The pair counts are all known after triangle_setup, so
+ * their scan needs no host decision before it, and they stay per primitive either way, so the bin
  * pairs come out in primitive order.
  *
  * Each record's pixel box is also written apart, 8 bytes a primitive (bin_boxes), which is all that
@@ -22,10 +24,17 @@ static inline uint2 packed_pixel_box(const TriangleExtent* extent) {
                  (uint)extent->pixel_max.x | (uint)extent->pixel_max.y << 16);
 }
 
-/* Writes the record of a triangle that survived culling (which measured `extent`); returns the
- * number of tiles its bounding box touches. Always inlined: PoCL's compiler kept it a call, with the
- * vertices passed through the stack (set-up of terrain-4m 38 -> 34 ms inlined). */
-CLR_INLINE uint write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
+/* The number of tiles a triangle's pixel box touches: its bin pairs. */
+static inline uint tiles_touched(const TriangleExtent* extent) {
+  const int2 tile_lo = extent->pixel_min / CLR_TILE_SIZE;
+  const int2 tile_hi = extent->pixel_max / CLR_TILE_SIZE;
+  return (uint)((tile_hi.x - tile_lo.x + 1) * (tile_hi.y - tile_lo.y + 1));
+}
+
+/* Writes the record of a triangle that survived culling (which measured `extent`). Always inlined:
+ * PoCL's compiler kept it a call, with the vertices passed through the stack (set-up of terrain-4m
+ * 38 -> 34 ms inlined). */
+CLR_INLINE void write_setup_triangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2,
                                      const TriangleExtent* extent, uint primitive_id,
                                      __constant const DrawUniforms* u, __global SetupTriangle* out) {
   long area = extent->double_area;
@@ -74,9 +83,6 @@ CLR_INLINE uint write_setup_triangle(const WindowVertex* v0, const WindowVertex*
   t.pixel_min = box.x;
   t.pixel_max = box.y;
   *out = t;
-  const int2 tile_lo = extent->pixel_min / CLR_TILE_SIZE;
-  const int2 tile_hi = extent->pixel_max / CLR_TILE_SIZE;
-  return (uint)((tile_hi.x - tile_lo.x + 1) * (tile_hi.y - tile_lo.y + 1));
 }
 
 __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap slots,
@@ -101,8 +107,9 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
     assemble_window_triangle(shaded, vertex_slots, triangle);
     if (!(codes.x & CLR_VERTEX_NOT_PROJECTABLE) && triangle_survives(&triangle[0], &triangle[1], &triangle[2], u, &extent)) {
       load_window_varyings(shaded, vertex_slots, triangle);
-      pairs = write_setup_triangle(&triangle[0], &triangle[1], &triangle[2], &extent, primitive_begin + i, u, &records[i]);
+      write_setup_triangle(&triangle[0], &triangle[1], &triangle[2], &extent, primitive_begin + i, u, &records[i]);
       bin_boxes[i] = packed_pixel_box(&extent);
+      pairs = tiles_touched(&extent);
     }
   } else {
     ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
@@ -110,18 +117,27 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
     TriangleExtent extent;
     assemble_clip_triangle(shaded, vertex_slots, triangle);
     const int n = clipped_window_polygon(triangle, planes, u, polygon);
-    for (int k = 1; k + 1 < n; ++k) clipped += triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent);
+    for (int k = 1; k + 1 < n; ++k) {
+      if (triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent)) {
+        ++clipped;
+        pairs += tiles_touched(&extent);
+      }
+    }
+    atomic_inc(&counters[CLR_COUNTER_CLIPPED]);
   }
   pair_counts[i] = pairs;
   clipped_counts[i] = clipped;
+  if (i == primitive_count - 1) { /* the extra entries, whose exclusive scans are the totals */
+    pair_counts[primitive_count] = 0;
+    clipped_counts[primitive_count] = 0;
+  }
 }
 
 /* For the primitives triangle_setup counted clipped triangles for: the same clipping again, writing
  * them at the primitive's overflow offset. */
 __kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap slots, __global const uchar* indices,
                             __global const float4* shaded, __constant const DrawUniforms* u,
-                            __global const uint* clipped_offsets, __global SetupTriangle* overflow,
-                            __global uint* pair_counts) {
+                            __global const uint* clipped_offsets, __global SetupTriangle* overflow) {
   const uint i = get_global_id(0);
   if (i >= primitive_count || clipped_offsets[i] == clipped_offsets[i + 1]) return;
   const uint3 vertex_slots = primitive_slots(primitive_begin + i, &slots, indices, u);
@@ -131,13 +147,11 @@ __kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap 
   assemble_clip_triangle(shaded, vertex_slots, triangle);
   const int n = clipped_window_polygon(triangle, planes, u, polygon);
   uint out = clipped_offsets[i];
-  uint pairs = 0;
   TriangleExtent extent;
   for (int k = 1; k + 1 < n; ++k) {
     if (triangle_survives(&polygon[0], &polygon[k], &polygon[k + 1], u, &extent)) {
-      pairs += write_setup_triangle(&polygon[0], &polygon[k], &polygon[k + 1], &extent, primitive_begin + i, u,
-                                    &overflow[out++]);
+      write_setup_triangle(&polygon[0], &polygon[k], &polygon[k + 1], &extent, primitive_begin + i, u,
+                           &overflow[out++]);
     }
   }
-  pair_counts[i] = pairs;
 }

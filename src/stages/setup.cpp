@@ -16,7 +16,7 @@ void SetupStage::run(cl_host::Queue& queue, const SetupParams& p) {
 void SetupStage::run_clipped(cl_host::Queue& queue, const ClippedSetupParams& p) {
   queue.set_stage(cl_host::Stage::Setup);
   cl_host::set_args(clipped_, cl_uint{p.primitive_begin}, cl_uint{p.primitive_count}, p.slots, p.draw->indices,
-                    p.shaded, p.draw->uniforms, p.clipped_offsets, p.overflow, p.pair_counts);
+                    p.shaded, p.draw->uniforms, p.clipped_offsets, p.overflow);
   cl_host::enqueue_items(queue, clipped_, p.primitive_count, CLR_ITEM_GROUP_SIZE);
 }
 

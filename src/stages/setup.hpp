@@ -18,7 +18,7 @@ struct SetupParams {
   std::uint32_t primitive_count = 0;
   cl::Buffer records;         // out: the SetupTriangle of each primitive that needs no clipping
   cl::Buffer bin_boxes;       // out: and its pixel box (uint2: pixel_min, pixel_max), for binning
-  cl::Buffer pair_counts;     // out: tiles each primitive's triangles touch (clipped ones: see below)
+  cl::Buffer pair_counts;     // out: tiles each primitive's triangles touch, clipped ones' included
   cl::Buffer clipped_counts;  // out: triangles clipping leaves of each primitive that crosses a plane
 };
 
@@ -31,7 +31,6 @@ struct ClippedSetupParams {
   std::uint32_t primitive_count = 0;
   cl::Buffer clipped_offsets;  // primitive_count + 1 offsets into overflow
   cl::Buffer overflow;         // out: the clipped primitives' SetupTriangles
-  cl::Buffer pair_counts;      // out: the clipped primitives' pair counts
 };
 
 class SetupStage {

@@ -305,6 +305,7 @@ typedef struct {
 #define CLR_COUNTER_SCAN_TOTAL 0     /* total of the last scan */
 #define CLR_COUNTER_DROPPED 1        /* primitives dropped for non-finite coordinates, this draw */
 #define CLR_COUNTER_MAX_INDEX 2      /* largest index in a range (index validation) */
+#define CLR_COUNTER_CLIPPED 3        /* primitives that needed clipping, this draw (a chunk cut short counts twice) */
 #define CLR_COUNTER_COUNT 4
 
 #endif /* CLRASTER_TYPES_H */
