@@ -15,7 +15,6 @@
 #include <array>
 #include <map>
 #include <ostream>
-#include <random>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -558,26 +557,15 @@ TEST(Conformance, TrianglesWithVerticesBehindTheEyeMatchGl) {
   expect_matches_gl({{&mesh, state}}, kWidth, kHeight, kNormalShading);
 }
 
-// Small triangles that each reach beyond the far plane: clipping leaves one or two triangles of
-// every one, far more than the overflow records a chunk is planned with (an eighth of its
-// primitives), so the draw is cut into chunks where the clipped triangles fill them. Drawn three
+// Random triangles in a slab around the far plane: so many cross it that clipping leaves more
+// triangles than the overflow records a chunk is planned with (an eighth of its primitives), and
+// the draw is cut into chunks where the clipped triangles fill them. Drawn three
 // triangles a draw, whose clipped triangles always fit, they make the same bin pairs and the same
 // picture, bit for bit: in order (without a depth test the last triangle drawn at a pixel shows),
 // nothing lost or drawn twice at the cuts.
 TEST(Conformance, MoreClippedTrianglesThanPlannedForAreDrawnInChunksAsGl) {
-  io::Mesh mesh;
-  std::mt19937 random(4242);
-  const auto between = [&](float lo, float hi) {
-    return lo + (hi - lo) * static_cast<float>(random() >> 8) / 16777216.0f;
-  };
   constexpr std::uint32_t kTriangles = 300, kTrianglesPerPiece = 3;
-  for (std::uint32_t i = 0; i < kTriangles; ++i) {
-    const float x = between(-6, 6), y = between(-4.5f, 4.5f), z = between(-9.8f, -9);
-    mesh.positions.insert(mesh.positions.end(), {x, y, z, x + between(-2, 2), y + between(-2, 2), z,
-                                                 x + between(-2, 2), y + between(-2, 2), between(-11, -10.5f)});
-    for (int k = 0; k < 9; ++k) mesh.normals.push_back(between(-1, 1));
-    for (std::uint32_t k = 0; k < 3; ++k) mesh.indices.push_back(3 * i + k);
-  }
+  const io::Mesh mesh = io::make_random_triangles(kTriangles, 4242, {-6, -4.5f, -10.4f}, {6, 4.5f, -9.6f}, 2.5f);
   io::Camera camera;  // only for the projection: the eye-space positions need no view matrix
   camera.near_plane = 0.5f;
   camera.far_plane = 10;
