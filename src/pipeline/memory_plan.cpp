@@ -23,7 +23,7 @@ resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::u
       (shade_all ? in.vertex_count : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count) *
       in.shaded_vertex_bytes;
   at(b, Scratch::Records) = chunk * in.setup_triangle_bytes;
-  at(b, Scratch::BinBoxes) = chunk * 2 * sizeof(cl_uint);
+  at(b, Scratch::BinBoxes) = chunk * sizeof(cl_uint2);
   at(b, Scratch::OverflowRecords) = overflow * in.setup_triangle_bytes;
   // Counts get one more entry, whose exclusive scan is the total.
   at(b, Scratch::ClippedCounts) = (chunk + 1) * sizeof(cl_uint);

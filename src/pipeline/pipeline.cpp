@@ -229,7 +229,7 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   // entry, zero (set-up writes it), whose exclusive scan is the total.
   const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
   const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * frame.setup_triangle_bytes);
-  const cl::Buffer bin_boxes = scratch_.get(Scratch::BinBoxes, std::size_t{count} * 2 * sizeof(cl_uint));
+  const cl::Buffer bin_boxes = scratch_.get(Scratch::BinBoxes, std::size_t{count} * sizeof(cl_uint2));
   const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, count_bytes);
   const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
   const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
