@@ -75,7 +75,9 @@ void print_table_foot(std::ostream& out, const std::vector<SceneResult>& results
         << (passed < static_cast<int>(results.size()) ? " (failed scenes are left out)\n" : "\n");
   }
   if (!results.empty()) {
-    out << "clraster on " << results.front().device << "; OpenGL: " << results.front().gl_renderer << '\n';
+    const int tile = results.front().tile_size;
+    out << "clraster on " << results.front().device << ", " << tile << "x" << tile
+        << " tiles; OpenGL: " << results.front().gl_renderer << '\n';
   }
   out << "stages: the median device time of each stage (OpenCL profiling events); other: index checks and "
          "transfers (the frame's clear is written by the raster stage)\n"
@@ -109,6 +111,7 @@ std::string to_json(const RunOptions& options, const std::vector<SceneResult>& r
                       {"coverage_mismatch", comparison.coverage_mismatch},
                       {"colour_mismatch", comparison.colour_mismatch},
                       {"device", result.device},
+                      {"tile_size", result.tile_size},
                       {"gl_renderer", result.gl_renderer}});
   }
   const double mean = geometric_mean_ratio(results);

@@ -131,6 +131,7 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
     ClrasterScene ours(context, scene.mesh, state, options.width, options.height);
     GlScene theirs(scene.mesh, state, options.width, options.height);
     result.device = context.device().name;
+    result.tile_size = context.options().tile_size;
     result.gl_renderer = theirs.renderer();
 
     for (int i = 0; i < kWarmupFrames; ++i) {

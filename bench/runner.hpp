@@ -41,6 +41,7 @@ struct SceneResult {
   int width = 0;
   int height = 0;
   std::string device;       // clraster's OpenCL device
+  int tile_size = 0;        // and the tile size its context took
   std::string gl_renderer;  // GL_RENDERER and GL_VERSION
   std::vector<double> clraster_frame_ms;  // the timed frames, in order
   std::vector<double> gl_frame_ms;

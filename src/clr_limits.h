@@ -66,9 +66,11 @@
 #define CLR_CLEAR_TEXELS_PER_ITEM 256 /* texels one work-item of a clear writes */
 
 /* ---- Rasterization ----------------------------------------------------------------------------- */
-/* The tile size (pixels per side, one work-group per tile) is a context option; its default is
- * clraster::kDefaultTileSize in clraster.hpp, as is the default memory cap. */
+/* The tile size (pixels per side, one work-group per tile) is a context option; the device's
+ * choice of it (kCpuShapeTileSize, kGpuShapeTileSize) and the default memory cap are in
+ * clraster.hpp. */
 #define CLR_RASTER_TRIANGLE_BATCH 64 /* set-up triangles staged in local memory at a time */
+#define CLR_RASTER_TILE_RUN 8        /* consecutive tiles that consecutive work-groups take (raster.cl) */
 /* Work-items per tile work-group, for programs without quad shading (those take one per pixel). GPUs
  * get one per pixel too. A CPU device gets CLR_RASTER_CPU_ITEMS, which loop over the tile's pixels
  * themselves: PoCL runs a work-group as loops over its work-items that it cannot vectorize around

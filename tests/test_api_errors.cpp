@@ -29,10 +29,20 @@ TEST(ContextOptions, MemoryCapBelowTheMinimumIsRejected) {
 }
 
 TEST(ContextOptions, TileSizesOtherThan8_16_32AreRejected) {
-  for (const int size : {0, 4, 12, 24, 64, -16}) {
+  for (const int size : {1, 4, 12, 24, 64, -16}) {
     EXPECT_TRUE(throws([&] { Context context(ContextOptions{.tile_size = size}); }, {std::to_string(size)}));
   }
   for (const int size : {8, 16, 32}) EXPECT_EQ(Context(ContextOptions{.tile_size = size}).options().tile_size, size);
+}
+
+// The default leaves the tile size to the context, which takes it from its work-group shapes: the
+// test device is PoCL's CPU one.
+TEST(ContextOptions, DeviceTileSizeFollowsTheWorkGroupShapes) {
+  EXPECT_EQ(ContextOptions{}.tile_size, kDeviceTileSize);
+  const Context context{ContextOptions{}};
+  ASSERT_EQ(context.device().type, "CPU") << "the tests run on PoCL's CPU device";
+  EXPECT_EQ(context.options().tile_size, kCpuShapeTileSize);
+  EXPECT_EQ(Context(ContextOptions{.work_group_shape = WorkGroupShape::Wide}).options().tile_size, kGpuShapeTileSize);
 }
 
 TEST(ContextOptions, DeviceThatDoesNotExistIsRejected) {

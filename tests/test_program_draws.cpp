@@ -2,7 +2,9 @@
 //
 // Quad shading: a program that takes derivatives is run in 2x2 quads, with helper invocations for
 // the uncovered pixels of each quad. Helpers only feed derivatives, so the pixels written and their
-// values must be exactly those of the same program shaded per pixel.
+// values must be exactly those of the same program shaded per pixel. The CPU shapes walk a tile's
+// quads four work-items at a time, the GPU ones run a work-item per pixel of the tile: the
+// derivatives must be the same bits.
 //
 // Span programs: fragment_span computes what fragment would, for a span of pixels at once, so the
 // two must write the same bits.
@@ -11,6 +13,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -58,6 +61,57 @@ TEST(QuadShading, WritesExactlyThePixelsAndValuesOfPerPixelShading) {
   ASSERT_FALSE(per_pixel.interface().uses_derivatives);
   ASSERT_TRUE(quads.interface().uses_derivatives);
   EXPECT_TRUE(images_match(render(quads, mesh), render(per_pixel, mesh), kExact));
+}
+
+// Fine and coarse derivatives of a value that varies non-linearly across the picture, in full
+// floats, so that a quad put together from the wrong pixels or lanes shows.
+constexpr const char* kDerivativesProgram = R"(
+clr_attribute(float3, position)
+clr_varying(float3, place)
+clr_output(float4, fine)
+clr_output(float4, coarse)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.0f);
+  v->out.place = v->in.position;
+}
+void fragment(clr_fragment* f) {
+  const float g = sin(7.0f * f->in.place.x) * f->frag_coord.y + f->in.place.z * f->frag_coord.x * f->frag_coord.x;
+  f->out.fine = (float4)(clr_dfdx_fine(f, g), clr_dfdy_fine(f, g), clr_fwidth(f, f->in.place.y), g);
+  f->out.coarse = (float4)(clr_dfdx_coarse(f, g), clr_dfdy_coarse(f, g), f->frag_coord.xy);
+}
+)";
+
+std::array<std::vector<std::byte>, 2> render_derivatives(Context& context, const io::Mesh& mesh) {
+  const Program program(context, kDerivativesProgram, "derivatives.cl");
+  EXPECT_TRUE(program.interface().uses_derivatives);
+  const Buffer positions(context, mesh.positions);
+  const IndexBuffer indices(context, mesh.indices);
+  Texture fine(context, 83, 71, Format::RGBA32F), coarse(context, 83, 71, Format::RGBA32F);
+  Texture depth(context, 83, 71, Format::Depth32F);
+  Framebuffer target(context, {&fine, &coarse}, &depth);
+  target.clear({0.0f, 0.0f, 0.0f, 0.0f}, 1.0f);
+  DrawCall call;
+  call.program = &program;
+  call.attributes = {{"position", &positions, AttributeType::Float3}};
+  call.indices = &indices;
+  target.draw(call);
+  return {fine.read(), coarse.read()};
+}
+
+TEST(QuadShading, DerivativesAreTheSameBitsInEveryShape) {
+  const io::Mesh mesh = io::make_random_triangles(900, 5, {-1, -1, -1}, {1, 1, 1}, 0.5f);
+  const auto device = render_derivatives(shared_context(), mesh);
+  const auto wide = render_derivatives(shared_context(WorkGroupShape::Wide), mesh);
+  // Drawn: most pixels were written (their frag_coord is not the clear's 0).
+  std::size_t drawn = 0;
+  for (std::size_t i = 8; i < device[1].size(); i += 16) {
+    float x = 0;
+    std::memcpy(&x, &device[1][i], sizeof x);
+    drawn += x > 0;
+  }
+  EXPECT_GT(drawn, 83u * 71u / 2);
+  EXPECT_TRUE(device[0] == wide[0]) << "fine derivatives";
+  EXPECT_TRUE(device[1] == wide[1]) << "coarse derivatives";
 }
 
 // Every input a fragment program has, written out to float and integer attachments (full floats, so

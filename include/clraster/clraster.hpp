@@ -80,11 +80,19 @@ std::vector<DeviceInfo> list_devices();
 
 inline constexpr std::size_t kDefaultMemoryCap = std::size_t{256} << 20;
 inline constexpr std::size_t kMinMemoryCap = std::size_t{4} << 20;
-// 16x16-pixel tiles: against 8x8 ones, a quarter of the bin entries and tile loads for triangles
-// larger than a tile, for a little more coverage work on small ones (clraster bench on PoCL: the
-// 50k-triangle model 1.18 times faster, the 1M-triangle terrain 1.06 times slower, geometric mean
-// 1.04 times faster). A program with many outputs may need 8 on a GPU with 32 KiB of local memory.
-inline constexpr int kDefaultTileSize = 16;
+// ContextOptions::tile_size: kDeviceTileSize lets the context pick from the work-group shapes it
+// takes (see WorkGroupShape). Where a work-group loops over its tile (CPUs), 32x32 pixels: against
+// 16x16, a quarter of the tiles and half the bin entries of triangles larger than a tile, which
+// the few work-items walk anyway (clraster bench on PoCL, medians of three runs in turn: the
+// 50k-triangle model 1.14 times faster, the fill-rate scene 1.12, the terrains and the one-pixel
+// triangles 1.02 to 1.04; docs/performance.md, step 36).
+// Where a work-item takes a pixel of the tile (GPUs), 16x16 pixels: 256 work-items, and the tile
+// in the local memory of small GPUs; against 8x8, a quarter of the bin entries and tile loads for
+// triangles larger than a tile. A program with many outputs may need 8 on a GPU with 32 KiB of
+// local memory.
+inline constexpr int kDeviceTileSize = 0;
+inline constexpr int kCpuShapeTileSize = 32;
+inline constexpr int kGpuShapeTileSize = 16;
 
 // How many work-items the pipeline's kernels put in a work-group. Device: the device's own shapes
 // (on GPUs a work-item per pixel of a tile and 256 per block of a scan or sort; on CPUs one
@@ -101,8 +109,9 @@ struct ContextOptions {
   // triangles, bin lists). Draws that need more are processed in chunks; nothing is dropped.
   // At least kMinMemoryCap.
   std::size_t memory_cap = kDefaultMemoryCap;
-  // Side of the square screen tile that one work-group rasterizes: 8, 16 or 32 pixels.
-  int tile_size = kDefaultTileSize;
+  // Side of the square screen tile that one work-group rasterizes: 8, 16 or 32 pixels, or
+  // kDeviceTileSize for the context's choice (Context::options() then says which it took).
+  int tile_size = kDeviceTileSize;
   // Where built program binaries are kept between runs. Empty: $CLRASTER_CACHE_DIR, else
   // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" (here or in $CLRASTER_CACHE_DIR)
   // disables the on-disk cache. It keeps at most 512 MiB, removing the least recently used first.

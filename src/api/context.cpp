@@ -21,8 +21,10 @@ void check_options(const ContextOptions& options) {
     throw InvalidArgument("memory cap of " + std::to_string(options.memory_cap) + " bytes is below the minimum of " +
                           std::to_string(kMinMemoryCap) + " bytes");
   }
-  if (options.tile_size != 8 && options.tile_size != 16 && options.tile_size != 32) {
-    throw InvalidArgument("tile size " + std::to_string(options.tile_size) + " is not 8, 16 or 32");
+  if (options.tile_size != kDeviceTileSize && options.tile_size != 8 && options.tile_size != 16 &&
+      options.tile_size != 32) {
+    throw InvalidArgument("tile size " + std::to_string(options.tile_size) + " is not 8, 16 or 32 (or " +
+                          std::to_string(kDeviceTileSize) + ", the device's choice)");
   }
 }
 
@@ -34,7 +36,8 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
       context(device.device),
       queue(cl::CommandQueue(context, device.device, options.profile ? CL_QUEUE_PROFILING_ENABLE : 0), options.profile),
       programs(context, device, options.cache_dir) {
-  // Quad shading always takes a work-item per pixel of a tile.
+  if (options.tile_size == kDeviceTileSize) options.tile_size = cpu_shapes() ? kCpuShapeTileSize : kGpuShapeTileSize;
+  // With the GPU shapes, quad shading takes a work-item per pixel of a tile (raster.cl).
   const std::size_t group_limit = device.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
   const auto tile_pixels = static_cast<std::size_t>(options.tile_size * options.tile_size);
   const std::size_t largest_group = std::max<std::size_t>(tile_pixels, scan_items());

@@ -29,7 +29,7 @@ struct RenderOptions {
   int device = -1;
   Backend backend = Backend::Clraster;
   std::size_t memory_cap = kDefaultMemoryCap;
-  int tile_size = kDefaultTileSize;
+  int tile_size = kDeviceTileSize;
 };
 
 struct CompareOptions {
@@ -46,7 +46,7 @@ struct BenchOptions {
   bool json = false;
   int device = -1;
   std::size_t memory_cap = kDefaultMemoryCap;
-  int tile_size = kDefaultTileSize;
+  int tile_size = kDeviceTileSize;
   std::string pictures;  // a directory for each scene's pictures; empty: none are written
 };
 

@@ -50,9 +50,9 @@ void add_context_options(CLI::App* command, int& device, std::size_t& memory_cap
   command->add_option("--memory-cap", memory_cap_mib, "Cap on the pipeline's intermediate buffers, MiB")
       ->check(CLI::Range(std::size_t{kMinMemoryCap >> 20}, std::size_t{1} << 20))
       ->capture_default_str();
-  command->add_option("--tile-size", tile_size, "Pixels per tile side: 8, 16 or 32")
-      ->check(CLI::IsMember({8, 16, 32}))
-      ->capture_default_str();
+  command->add_option("--tile-size", tile_size,
+                      "Pixels per tile side: 8, 16 or 32 (default: the device's, 32 on CPUs, 16 on GPUs)")
+      ->check(CLI::IsMember({8, 16, 32}));
 }
 
 // CLI11 takes "-3,1,2" after "--eye" for an option name; joining such a value to its option
