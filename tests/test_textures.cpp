@@ -18,6 +18,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace clraster::test {
@@ -303,6 +304,20 @@ TEST_F(TextureTest, SrgbDecodesEveryByteExactlyAndAlphaLinearly) {
     EXPECT_EQ(decoded[c][0], static_cast<float>(srgb_to_linear(c))) << "byte " << c;
     EXPECT_EQ(decoded[c][2], static_cast<float>(srgb_to_linear(255 - c))) << "byte " << 255 - c;
     EXPECT_EQ(decoded[c][3], c / 255.0f) << "alpha " << c;
+  }
+}
+
+// Every byte decodes to the float nearest c / 255 (clr_unorm8_to_float computes it without a division).
+TEST_F(TextureTest, UnormDecodesEveryByteToItsQuotientBy255) {
+  std::vector<std::uint8_t> texels;
+  for (int c = 0; c < 256; ++c)
+    texels.insert(texels.end(), {std::uint8_t(c), std::uint8_t(255 - c), std::uint8_t(c ^ 0x55), std::uint8_t(c)});
+  const Texture texture(shared_context(), 256, 1, Format::RGBA8, bytes_of(texels), false);
+  std::vector<cl_int> queries;
+  for (int c = 0; c < 256; ++c) queries.insert(queries.end(), {c, 0, 0});
+  const std::vector<Texel> decoded = fetch(texture, queries).floats;
+  for (int c = 0; c < 256; ++c) {
+    EXPECT_EQ(decoded[c], (Texel{c / 255.0f, (255 - c) / 255.0f, (c ^ 0x55) / 255.0f, c / 255.0f})) << "byte " << c;
   }
 }
 
@@ -745,66 +760,71 @@ bool near_lambda_boundary(const Sampler& sampler, double lambda) {
          (sampler.mip_filter == MipFilter::Nearest && near_but_not_on(lambda - std::floor(lambda) - 0.5));
 }
 
+// A 16x8 texture with 5 levels of random texels (not generated from each other), and a 12x5 one with
+// 4, whose sides are not powers of two (wrapping them takes a division).
 TEST_F(TextureTest, EverySamplerMatchesTheReferenceAtRandomCoordinatesAndGradients) {
-  // A 16x8 texture with 5 levels of random texels (not generated from each other).
-  std::mt19937 random(11);
-  std::uniform_real_distribution<float> unit(0, 1);
-  Texture texture(shared_context(), 16, 8, Format::RGBA32F, kFullMipChain);
-  ReferenceTexture reference{16, 8, {}};
-  for (int level = 0; level < texture.levels(); ++level) {
-    std::vector<Texel> texels(std::size_t(texture.width(level)) * texture.height(level));
-    for (Texel& texel : texels) texel = {unit(random), unit(random), unit(random), unit(random)};
-    texture.upload(level, bytes_of(texels));
-    reference.levels.push_back(texels);
-  }
-  // Coordinates over several periods, on both sides of 0; footprints from 1/8 to 64 texels.
-  std::uniform_real_distribution<float> coordinate(-2.5f, 3.5f), log_footprint(-3, 6), angle(0, 6.2831853f);
-  std::vector<Query> queries;
-  for (int i = 0; i < 200; ++i) {
-    const float a = angle(random), b = angle(random);
-    const float x_texels = std::exp2(log_footprint(random)), y_texels = std::exp2(log_footprint(random));
-    queries.push_back(Query{coordinate(random),
-                            coordinate(random),
-                            log_footprint(random) - 1,
-                            {x_texels * std::cos(a) / 16, x_texels * std::sin(a) / 8},
-                            {y_texels * std::cos(b) / 16, y_texels * std::sin(b) / 8}});
-  }
-  // Texel centres and edges exactly, where selection rules differ most.
-  for (int i = -4; i <= 20; ++i) queries.push_back(Query{i / 16.0f, (i + 0.5f) / 8.0f, 0.5f * float(i % 3)});
+  for (const auto [width, height] : {std::pair{16, 8}, std::pair{12, 5}}) {
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> unit(0, 1);
+    Texture texture(shared_context(), width, height, Format::RGBA32F, kFullMipChain);
+    ReferenceTexture reference{width, height, {}};
+    for (int level = 0; level < texture.levels(); ++level) {
+      std::vector<Texel> texels(std::size_t(texture.width(level)) * texture.height(level));
+      for (Texel& texel : texels) texel = {unit(random), unit(random), unit(random), unit(random)};
+      texture.upload(level, bytes_of(texels));
+      reference.levels.push_back(texels);
+    }
+    // Coordinates over several periods, on both sides of 0; footprints from 1/8 to 64 texels.
+    std::uniform_real_distribution<float> coordinate(-2.5f, 3.5f), log_footprint(-3, 6), angle(0, 6.2831853f);
+    std::vector<Query> queries;
+    for (int i = 0; i < 200; ++i) {
+      const float a = angle(random), b = angle(random);
+      const float x_texels = std::exp2(log_footprint(random)), y_texels = std::exp2(log_footprint(random));
+      queries.push_back(Query{coordinate(random),
+                              coordinate(random),
+                              log_footprint(random) - 1,
+                              {x_texels * std::cos(a) / width, x_texels * std::sin(a) / height},
+                              {y_texels * std::cos(b) / width, y_texels * std::sin(b) / height}});
+    }
+    // Texel centres and edges exactly, where selection rules differ most.
+    for (int i = -4; i <= 20; ++i) {
+      queries.push_back(Query{i / float(width), (i + 0.5f) / float(height), 0.5f * float(i % 3)});
+    }
 
-  int checked = 0;
-  for (const Filter mag : {Filter::Nearest, Filter::Linear}) {
-    for (const Filter min : {Filter::Nearest, Filter::Linear}) {
-      for (const MipFilter mip : {MipFilter::None, MipFilter::Nearest, MipFilter::Linear}) {
-        for (const Wrap wrap_s : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
-          for (const Wrap wrap_t : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
-            // A third of the samplers with a bias and a narrower lod range.
-            Sampler sampler{mag, min, mip, wrap_s, wrap_t, 0.0f, -1000.0f, 1000.0f};
-            if (wrap_s == Wrap::MirroredRepeat) sampler = {mag, min, mip, wrap_s, wrap_t, 0.5f, 0.25f, 3.5f};
-            for (const bool gradients : {false, true}) {
-              const std::vector<Texel> results = sample(texture, sampler, queries, gradients);
-              for (std::size_t i = 0; i < queries.size(); ++i) {
-                const Query& q = queries[i];
-                const auto squared = [](std::array<float, 2> d) {
-                  return std::pow(double(d[0]) * 16, 2) + std::pow(double(d[1]) * 8, 2);
-                };
-                const double lambda_base =
-                    gradients ? 0.5 * piecewise_linear_log2(std::max(squared(q.dx), squared(q.dy))) : q.lod;
-                const double lambda = reference_lambda(sampler, lambda_base);
-                if (near_lambda_boundary(sampler, lambda)) continue;
-                EXPECT_TRUE(near(results[i], reference_sample(reference, sampler, q.s, q.t, lambda), 1e-4f))
-                    << "mag " << int(mag) << " min " << int(min) << " mip " << int(mip) << " wrap " << int(wrap_s)
-                    << "/" << int(wrap_t) << (gradients ? " gradients" : " lod") << " query " << i << " s " << q.s
-                    << " t " << q.t << " lambda " << lambda;
-                ++checked;
+    int checked = 0;
+    for (const Filter mag : {Filter::Nearest, Filter::Linear}) {
+      for (const Filter min : {Filter::Nearest, Filter::Linear}) {
+        for (const MipFilter mip : {MipFilter::None, MipFilter::Nearest, MipFilter::Linear}) {
+          for (const Wrap wrap_s : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
+            for (const Wrap wrap_t : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat}) {
+              // A third of the samplers with a bias and a narrower lod range.
+              Sampler sampler{mag, min, mip, wrap_s, wrap_t, 0.0f, -1000.0f, 1000.0f};
+              if (wrap_s == Wrap::MirroredRepeat) sampler = {mag, min, mip, wrap_s, wrap_t, 0.5f, 0.25f, 3.5f};
+              for (const bool gradients : {false, true}) {
+                const std::vector<Texel> results = sample(texture, sampler, queries, gradients);
+                for (std::size_t i = 0; i < queries.size(); ++i) {
+                  const Query& q = queries[i];
+                  const auto squared = [&](std::array<float, 2> d) {
+                    return std::pow(double(d[0]) * width, 2) + std::pow(double(d[1]) * height, 2);
+                  };
+                  const double lambda_base =
+                      gradients ? 0.5 * piecewise_linear_log2(std::max(squared(q.dx), squared(q.dy))) : q.lod;
+                  const double lambda = reference_lambda(sampler, lambda_base);
+                  if (near_lambda_boundary(sampler, lambda)) continue;
+                  EXPECT_TRUE(near(results[i], reference_sample(reference, sampler, q.s, q.t, lambda), 1e-4f))
+                      << "mag " << int(mag) << " min " << int(min) << " mip " << int(mip) << " wrap " << int(wrap_s)
+                      << "/" << int(wrap_t) << (gradients ? " gradients" : " lod") << " query " << i << " s " << q.s
+                      << " t " << q.t << " lambda " << lambda << " size " << width << "x" << height;
+                  ++checked;
+                }
               }
             }
           }
         }
       }
     }
+    EXPECT_GT(checked, 48000) << width << "x" << height;  // of 108 samplers x 2 x 225 queries, few are near a boundary
   }
-  EXPECT_GT(checked, 48000);  // of 108 samplers x 2 x 225 queries, few are near a boundary
 }
 
 TEST_F(TextureTest, HugeAndNonFiniteCoordinatesSampleSomeTexelOfTheTexture) {

@@ -64,6 +64,10 @@ uint4 clr_texel_fetch_uint(clr_texture t, int2 texel, int level) {
 
 /* a mod b, in [0, b) also for negative a. */
 int clr_floor_mod(int a, int b) {
+  /* Without a division where it can (a division was a fifth of a bilinear sample): inside already,
+   * or a power of two, whose mask is the floor modulo in two's complement. */
+  if ((uint)a < (uint)b) return a;
+  if ((b & (b - 1)) == 0) return a & (b - 1);
   const int r = a % b;
   return r < 0 ? r + b : r;
 }
@@ -206,7 +210,7 @@ __kernel void texture_downsample(__global uchar* data, __constant const TextureD
     const uint4 t11 = convert_uint4_rte(clr_texel_fetch(t, (int2)(2 * x + 1, 2 * y + 1), source_level) * 255.0f);
     const uint4 bottom = (t00 + t10 + 1u) >> 1;
     const uint4 top = (t01 + t11 + 1u) >> 1;
-    value = convert_float4((bottom + top + 1u) >> 1) / 255.0f;
+    value = clr_unorm8_to_float(convert_float4((bottom + top + 1u) >> 1));
   }
   clr_store_texel_float(desc->format, data, clr_texel_index(t, source_level + 1, target, x, y), value);
 }

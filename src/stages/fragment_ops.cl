@@ -495,7 +495,7 @@ CLR_INLINE void clr_blend_unorm8(BlendUniforms b, clr_span_color source, clr_spa
 #pragma unroll
   for (int c = 0; c < 4; ++c) {
     blended->c[c] = clamp(blended->c[c], 0.0f, 255.0f);
-    if (!in_bytes) blended->c[c] /= 255.0f;
+    if (!in_bytes) blended->c[c] = clr_unorm8_to_float(blended->c[c]);
   }
 }
 

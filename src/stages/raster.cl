@@ -226,7 +226,7 @@ CLR_INLINE void load_rgba8_span(__global const uint* pixels, bool bytes, __local
 #pragma unroll
   for (int c = 0; c < 4; ++c) {
     const clr_span_float byte = CLR_SPAN_CONVERT(float, (packed >> (8u * c)) & 0xffu);
-    CLR_SPAN_STORE(CLR_SPAN_AS(uint, bytes ? byte : byte / 255.0f), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
+    CLR_SPAN_STORE(CLR_SPAN_AS(uint, bytes ? byte : clr_unorm8_to_float(byte)), &tile_channels[CLR_TILE_WORD(0, c, 0)]);
   }
 }
 CLR_INLINE clr_span_uint pack_rgba8_span(__local const uint* tile_channels, bool bytes) {
@@ -844,7 +844,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
         if (inside_rect(x + i, y, rect) && format >= 0) {
           uint4 value = empty ? cleared[k] : clr_tile_pixel(tile_color, k, first + i);
-          if (!empty && tile_holds_bytes(u, k)) value = as_uint4(as_float4(value) / 255.0f); /* stored as c again */
+          if (!empty && tile_holds_bytes(u, k)) value = as_uint4(clr_unorm8_to_float(as_float4(value))); /* stored as c again */
           store_attachment_pixel(format, targets[k], pixel + i, value);
         }
       }
