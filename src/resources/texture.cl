@@ -65,9 +65,10 @@ uint4 clr_texel_fetch_uint(clr_texture t, int2 texel, int level) {
 /* a mod b, in [0, b) also for negative a. */
 int clr_floor_mod(int a, int b) {
   /* Without a division where it can (a division was a fifth of a bilinear sample): inside already,
-   * or a power of two, whose mask is the floor modulo in two's complement. */
+   * or a power of two, whose mask is the floor modulo in two's complement. The power of two found
+   * with clz: LLVM makes a population count of b & (b - 1), which Oclgrind cannot run. */
   if ((uint)a < (uint)b) return a;
-  if ((b & (b - 1)) == 0) return a & (b - 1);
+  if (((uint)b << clz(b)) == 0x80000000u) return a & (b - 1);
   const int r = a % b;
   return r < 0 ? r + b : r;
 }

@@ -844,7 +844,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       for (int i = 0; i < CLR_SPAN_PIXELS; ++i) {
         if (inside_rect(x + i, y, rect) && format >= 0) {
           uint4 value = empty ? cleared[k] : clr_tile_pixel(tile_color, k, first + i);
-          if (!empty && tile_holds_bytes(u, k)) value = as_uint4(clr_unorm8_to_float(as_float4(value))); /* stored as c again */
+          /* A tile that holds bytes has c where the attachment stores c / 255. */
+          if (!empty && tile_holds_bytes(u, k)) value = as_uint4(clr_unorm8_to_float(as_float4(value)));
           store_attachment_pixel(format, targets[k], pixel + i, value);
         }
       }
