@@ -32,11 +32,25 @@ void vertex(clr_vertex* v) {
   v->out.uv = v->in.uv;
 }
 
-void fragment(clr_fragment* f) {
-  const float4 base = clr_sample(f, f->textures.base_color_texture, f->in.uv) * f->uniforms->base_color;
-  const float length_of_normal = length(f->in.eye_normal);
+/* A span program (docs/programs.md): a span of pixels at once, one vector lane each, two quads of
+ * them where it samples the texture, as llvmpipe shades. Written per fragment, it would read
+ *   const float4 base = clr_sample(f, f->textures.base_color_texture, f->in.uv) * f->uniforms->base_color;
+ *   const float length_of_normal = length(f->in.eye_normal);
+ *   const float diffuse = length_of_normal > 0.0f ? fabs(dot(f->in.eye_normal / length_of_normal, light)) : 0.0f;
+ *   f->out.color = (float4)(base.xyz * (AMBIENT + (1.0f - AMBIENT) * diffuse), 1.0f);
+ * and draw the same picture (to rounding), 1.8 times slower on CPUs (the demo scene at 1920x1080). */
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float4 texel = clr_sample(f, f->textures.base_color_texture, f->in.uv);
+  const float4 factor = f->uniforms->base_color;
+  const float3 light = f->uniforms->light_direction;
+  const clr_span_float3 n = f->in.eye_normal;
+  const clr_span_float length_of_normal = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
   /* fabs: both sides of a face are lit. A zero normal (a degenerate vertex) gets the ambient term only. */
-  const float diffuse =
-      length_of_normal > 0.0f ? fabs(dot(f->in.eye_normal / length_of_normal, f->uniforms->light_direction)) : 0.0f;
-  f->out.color = (float4)(base.xyz * (AMBIENT + (1.0f - AMBIENT) * diffuse), 1.0f);
+  const clr_span_float cosine = (n.x * light.x + n.y * light.y + n.z * light.z) / length_of_normal;
+  const clr_span_float diffuse = length_of_normal > 0.0f ? fabs(cosine) : 0.0f;
+  const clr_span_float lit = AMBIENT + (1.0f - AMBIENT) * diffuse;
+  f->out.color.x = texel.x * factor.x * lit;
+  f->out.color.y = texel.y * factor.y * lit;
+  f->out.color.z = texel.z * factor.z * lit;
+  f->out.color.w = 1.0f;
 }

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -203,6 +204,137 @@ TEST(SpanPrograms, WriteTheBitsOfTheirPerFragmentTwinInEveryShape) {
     // Drawn: most pixels have a triangle (their ids' last word is 7, not the clear's 0).
     std::size_t drawn = 0;
     for (std::size_t i = 12; i < expected[3].size(); i += 16) drawn += expected[3][i] == std::byte{7};
+    EXPECT_GT(drawn, 61u * 47u / 2);
+    for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(expected[k] == result[k]) << "attachment " << k;
+  }
+}
+
+// Derivatives and texture samples of a span program, against its per-fragment twin: in spans of
+// eight the CPU shapes shade blocks of two quads, take differences between lanes and sample in
+// vectors (resources/texture_span.cl); the GPU shapes shade a pixel per work-item and exchange values
+// through local memory. Full floats, fine and coarse derivatives of a value that varies non-linearly,
+// and samples whose level of detail comes from derivatives of coordinates stretched unevenly, so
+// that a quad put together from the wrong lanes, or a lambda from the wrong differences, shows. The
+// samples cover the sampler's paths: RGBA8 trilinear and repeating; sRGB, nearest level, mirrored,
+// sides that are not powers of two (the wrap's division), nearest when magnified but linear when
+// minified (lanes of one span on both sides); a float format, no mipmaps, clamped, biased; and an
+// explicit level of detail.
+std::string quad_program(bool span) {
+  const std::string declarations = R"(
+clr_attribute(float3, position)
+clr_varying(float3, place)
+clr_texture(bytes)
+clr_texture(srgb)
+clr_texture(floats)
+clr_output(float4, fine)
+clr_output(float4, coarse)
+clr_output(float4, bytes_sample)
+clr_output(float4, srgb_sample)
+clr_output(float4, float_sample)
+clr_output(float4, lod_sample)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.position, 1.5f + 0.5f * v->in.position.z);
+  v->out.place = v->in.position;
+}
+)";
+  if (!span) {
+    return declarations + R"(
+void fragment(clr_fragment* f) {
+  const float3 p = f->in.place;
+  const float g = p.x * p.x * f->frag_coord.y + p.z * f->frag_coord.x * f->frag_coord.x;
+  f->out.fine = (float4)(clr_dfdx_fine(f, g), clr_dfdy_fine(f, g), clr_fwidth(f, p.y), g);
+  f->out.coarse = (float4)(clr_dfdx_coarse(f, g), clr_dfdy_coarse(f, g), clr_dfdx(f, p.z), clr_dfdy(f, p.z));
+  f->out.bytes_sample = clr_sample(f, f->textures.bytes, (float2)(p.x * 3.0f, p.y * p.y * 5.0f));
+  f->out.srgb_sample = clr_sample(f, f->textures.srgb, (float2)(p.x * p.x * 2.0f, p.y * 0.7f + p.z));
+  f->out.float_sample = clr_sample(f, f->textures.floats, (float2)(p.y * 1.5f, p.x * p.z * 2.0f));
+  f->out.lod_sample = clr_sample_lod(f->textures.bytes, (float2)(p.z, p.x), p.y * 4.0f);
+}
+)";
+  }
+  return declarations + R"(
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float3 p = f->in.place;
+  const clr_span_float g = p.x * p.x * f->frag_coord.y + p.z * f->frag_coord.x * f->frag_coord.x;
+  f->out.fine.x = clr_dfdx_fine(f, g);
+  f->out.fine.y = clr_dfdy_fine(f, g);
+  f->out.fine.z = clr_fwidth(f, p.y);
+  f->out.fine.w = g;
+  f->out.coarse.x = clr_dfdx_coarse(f, g);
+  f->out.coarse.y = clr_dfdy_coarse(f, g);
+  f->out.coarse.z = clr_dfdx(f, p.z);
+  f->out.coarse.w = clr_dfdy(f, p.z);
+  const clr_span_float2 bytes_uv = {p.x * 3.0f, p.y * p.y * 5.0f};
+  f->out.bytes_sample = clr_sample(f, f->textures.bytes, bytes_uv);
+  const clr_span_float2 srgb_uv = {p.x * p.x * 2.0f, p.y * 0.7f + p.z};
+  f->out.srgb_sample = clr_sample(f, f->textures.srgb, srgb_uv);
+  const clr_span_float2 float_uv = {p.y * 1.5f, p.x * p.z * 2.0f};
+  f->out.float_sample = clr_sample(f, f->textures.floats, float_uv);
+  const clr_span_float2 lod_uv = {p.z, p.x};
+  f->out.lod_sample = clr_sample_lod(f->textures.bytes, lod_uv, p.y * 4.0f);
+}
+)";
+}
+
+// Texels that differ from their neighbours, so that every filter and level gives its own values.
+std::vector<std::byte> pattern_texels(int width, int height, int bytes_per_texel) {
+  std::vector<std::byte> texels(std::size_t(width) * height * bytes_per_texel);
+  for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = std::byte(static_cast<unsigned char>(i * 37 % 251));
+  return texels;
+}
+
+std::vector<std::vector<std::byte>> render_quads(Context& context, const Program& program, const io::Mesh& mesh) {
+  const Buffer positions(context, mesh.positions);
+  const IndexBuffer indices(context, mesh.indices);
+  const Texture bytes(context, 64, 32, Format::RGBA8, pattern_texels(64, 32, 4));
+  const Texture srgb(context, 24, 10, Format::SRGB8_A8, pattern_texels(24, 10, 4));
+  std::vector<float> floats(16 * 16 * 4);
+  for (std::size_t i = 0; i < floats.size(); ++i) floats[i] = std::sin(0.37f * static_cast<float>(i)) * 3.0f;
+  const Texture float_texture(context, 16, 16, Format::RGBA32F, std::as_bytes(std::span(floats)), false);
+  std::vector<Texture> outputs;
+  for (int k = 0; k < 6; ++k) outputs.emplace_back(context, 61, 47, Format::RGBA32F);
+  Texture depth(context, 61, 47, Format::Depth32F);
+  Framebuffer target(context, {&outputs[0], &outputs[1], &outputs[2], &outputs[3], &outputs[4], &outputs[5]}, &depth);
+  target.clear({0.0f, 0.0f, 0.0f, 0.0f}, 1.0f);
+  Bindings bindings(program);
+  bindings.set_texture("bytes", bytes);
+  Sampler mirrored;
+  mirrored.mag_filter = Filter::Nearest;
+  mirrored.mip_filter = MipFilter::Nearest;
+  mirrored.wrap_s = Wrap::MirroredRepeat;
+  bindings.set_texture("srgb", srgb, mirrored);
+  Sampler clamped;
+  clamped.min_filter = Filter::Nearest;
+  clamped.mip_filter = MipFilter::None;
+  clamped.wrap_s = clamped.wrap_t = Wrap::ClampToEdge;
+  clamped.lod_bias = 1.5f;
+  bindings.set_texture("floats", float_texture, clamped);
+  DrawCall call;
+  call.program = &program;
+  call.bindings = &bindings;
+  call.attributes = {{"position", &positions, AttributeType::Float3}};
+  call.indices = &indices;
+  target.draw(call);  // depth test LESS: some fragments hidden, their quads' helpers still shaded
+  std::vector<std::vector<std::byte>> result;
+  for (const Texture& output : outputs) result.push_back(output.read());
+  return result;
+}
+
+TEST(SpanPrograms, TakeTheDerivativesAndSamplesOfTheirPerFragmentTwinInEveryShape) {
+  const io::Mesh mesh = io::make_random_triangles(700, 13, {-1, -1, -1}, {1, 1, 1}, 0.5f);
+  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
+    const Program per_fragment(*context, quad_program(false), "per_fragment.cl");
+    const Program per_span(*context, quad_program(true), "per_span.cl");
+    ASSERT_TRUE(per_span.interface().has_fragment_span);
+    ASSERT_TRUE(per_span.interface().uses_derivatives);
+    const auto expected = render_quads(*context, per_fragment, mesh);
+    const auto result = render_quads(*context, per_span, mesh);
+    // Drawn: most pixels were written (their RGBA8 sample's alpha is not the clear's 0).
+    std::size_t drawn = 0;
+    for (std::size_t i = 12; i < expected[2].size(); i += 16) {
+      float alpha = 0;
+      std::memcpy(&alpha, &expected[2][i], sizeof alpha);
+      drawn += alpha > 0;
+    }
     EXPECT_GT(drawn, 61u * 47u / 2);
     for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(expected[k] == result[k]) << "attachment " << k;
   }

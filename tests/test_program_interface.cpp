@@ -132,7 +132,10 @@ TEST(ProgramInterface, FindsASpanProgramAndRejectsWhatNeedsOneFragment) {
                              "fragment(clr_fragment* f) instead)";
   EXPECT_EQ(parse_error(span_program + "  clr_discard(f);\n}\n"), "user.cl:3: clr_discard" + advice);
   EXPECT_EQ(parse_error(span_program + "\n  f->frag_depth = 0.5f;\n}\n"), "user.cl:4: frag_depth" + advice);
-  EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_dfdx(f, f->in.x);\n}\n"), "user.cl:3: clr_dfdx" + advice);
+  // Derivatives and samples are span vectors too: such a program is shaded in quads.
+  const auto quads = parse_program(span_program + "  f->out.c = clr_dfdx(f, f->in.x);\n}\n", "user.cl");
+  EXPECT_TRUE(quads.interface.has_fragment_span);
+  EXPECT_TRUE(quads.interface.uses_derivatives);
   // The first use is the one named.
   EXPECT_EQ(parse_error(span_program + "  f->out.c = clr_framebuffer_fetch(f, 0);\n  clr_discard(f);\n}\n"),
             "user.cl:3: clr_framebuffer_fetch" + advice);

@@ -154,8 +154,8 @@ typedef struct {
   uint clr_lane;                   /* this pixel's work-item in the tile */
 } clr_fragment;
 
-/* What a span program reads and writes: the fragments of a span of pixels of a row, one vector
- * lane per pixel (docs/programs.md). */
+/* What a span program reads and writes: the fragments of a span of pixels, one vector lane per
+ * pixel (docs/programs.md). */
 typedef struct {
   clr_span_varyings in;
   clr_span_float4 frag_coord;  /* as clr_fragment's, lane by lane */
@@ -167,6 +167,9 @@ typedef struct {
   __constant const clr_uniforms* uniforms;
   clr_textures textures;
   clr_buffers buffers;
+  /* The pipeline's, for derivatives in spans of one pixel (prelude.cl): */
+  __local float4* clr_quad;
+  uint clr_lane;
 } clr_span_fragment;
 
 /* Defined by the generated glue at the end of the program. */
@@ -319,7 +322,10 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
 }  // namespace
 
 bool early_fragment_tests(const ParsedProgram& p) {
-  return !p.may_discard && !p.writes_depth && !p.interface.uses_derivatives;
+  // A per-fragment program that takes derivatives runs for every pixel of its quads, those that fail
+  // the tests too, so it gains nothing from testing first; a span program runs for whole spans
+  // anyway (raster.cl).
+  return !p.may_discard && !p.writes_depth && (!p.interface.uses_derivatives || p.interface.has_fragment_span);
 }
 
 std::size_t shaded_vertex_bytes(const ParsedProgram& p) {
@@ -336,7 +342,7 @@ std::string generate_stage_program(const ParsedProgram& p, const std::string& us
   std::ostringstream out;
   emit_constants(out, p);
   out << cl_sources::compose({"clr_limits.h", "stages/types.h", "resources/index_range.cl", "resources/format.cl", "resources/texture.cl",
-                              "stages/fragment_ops.cl", "program/library/blend_modes.cl"});
+                              "stages/fragment_ops.cl", "resources/texture_span.cl", "program/library/blend_modes.cl"});
   std::string quoted;
   for (const char c : file_name) {
     if (c == '"' || c == '\\') quoted += '\\';

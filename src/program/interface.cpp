@@ -88,7 +88,7 @@ class Parser {
     // A span program runs after the rasterizer's early tests and has no fragment of its own: what
     // needs one fragment at a time, or late tests, belongs to per-fragment programs.
     if (p.interface.has_fragment_span) {
-      const Mention first = std::min({derivative, discard, depth_write, fetch, depth_test_, blend_});
+      const Mention first = std::min({discard, depth_write, fetch, depth_test_, blend_});
       if (first.found()) {
         fail(line_of(first.position), first.name + " needs a per-fragment program: a program with fragment_span "
                                                     "cannot use it (write void fragment(clr_fragment* f) instead)");

@@ -53,35 +53,85 @@ static inline uint4 clr_framebuffer_fetch_uint(const clr_fragment* f, uint targe
 #define CLR_QUAD_X 0
 #define CLR_QUAD_Y 1
 
-/* Makes `value` visible to the quad; returns the difference along `axis`. */
-static inline float4 clr_quad_difference(clr_fragment* f, float4 value, int axis, bool coarse) {
+/* Makes `value`, the value at the tile's pixel `lane`, visible to its quad through `quad`, the
+ * tile's exchange; returns the difference along `axis`. */
+static inline float4 clr_quad_difference(__local float4* quad, uint lane, float4 value, int axis, bool coarse) {
   barrier(CLK_LOCAL_MEM_FENCE); /* every earlier exchange has been read */
-  f->clr_quad[f->clr_lane] = value;
+  quad[lane] = value;
   barrier(CLK_LOCAL_MEM_FENCE);
-  const uint x = f->clr_lane % CLR_TILE_SIZE;
-  const uint y = f->clr_lane / CLR_TILE_SIZE;
+  const uint x = lane % CLR_TILE_SIZE;
+  const uint y = lane / CLR_TILE_SIZE;
   if (axis == CLR_QUAD_X) {
     const uint row = coarse ? y & ~1u : y;
     const uint left = row * CLR_TILE_SIZE + (x & ~1u);
-    return f->clr_quad[left + 1] - f->clr_quad[left];
+    return quad[left + 1] - quad[left];
   }
   const uint column = coarse ? x & ~1u : x;
   const uint bottom = (y & ~1u) * CLR_TILE_SIZE + column;
-  return f->clr_quad[bottom + CLR_TILE_SIZE] - f->clr_quad[bottom];
+  return quad[bottom + CLR_TILE_SIZE] - quad[bottom];
 }
 
-#define CLR_DERIVATIVE(name, axis, coarse)                                                              \
-  __attribute__((overloadable)) inline float name(clr_fragment* f, float v) {                           \
-    return clr_quad_difference(f, (float4)(v, 0.0f, 0.0f, 0.0f), axis, coarse).x;                      \
-  }                                                                                                      \
-  __attribute__((overloadable)) inline float2 name(clr_fragment* f, float2 v) {                         \
-    return clr_quad_difference(f, (float4)(v, 0.0f, 0.0f), axis, coarse).xy;                           \
-  }                                                                                                      \
-  __attribute__((overloadable)) inline float3 name(clr_fragment* f, float3 v) {                         \
-    return clr_quad_difference(f, (float4)(v, 0.0f), axis, coarse).xyz;                                \
-  }                                                                                                      \
-  __attribute__((overloadable)) inline float4 name(clr_fragment* f, float4 v) {                         \
-    return clr_quad_difference(f, v, axis, coarse);                                                     \
+/* A span program's derivatives: in quad spans (fragment_ops.cl: lanes 0-3 the lower row of two quads,
+ * 4-7 the upper one) the same differences between the lanes of the span, without barriers; in spans
+ * of one pixel through the exchange. Four values at once, the components of a span vector. (Spans of
+ * eight are quad spans wherever the program takes derivatives.) */
+#if CLR_SPAN_PIXELS > 1
+/* For each lane, the lanes whose difference is its derivative along `axis`, `coarse` or fine. */
+static inline uint8 clr_quad_span_minuend(int axis, bool coarse) {
+  if (axis == CLR_QUAD_X) return coarse ? (uint8)(1, 1, 3, 3, 1, 1, 3, 3) : (uint8)(1, 1, 3, 3, 5, 5, 7, 7);
+  return coarse ? (uint8)(4, 4, 6, 6, 4, 4, 6, 6) : (uint8)(4, 5, 6, 7, 4, 5, 6, 7);
+}
+static inline uint8 clr_quad_span_subtrahend(int axis, bool coarse) {
+  if (coarse) return (uint8)(0, 0, 2, 2, 0, 0, 2, 2);
+  return axis == CLR_QUAD_X ? (uint8)(0, 0, 2, 2, 4, 4, 6, 6) : (uint8)(0, 1, 2, 3, 0, 1, 2, 3);
+}
+static inline clr_span_float clr_quad_span_difference(clr_span_float v, int axis, bool coarse) {
+  return shuffle(v, clr_quad_span_minuend(axis, coarse)) - shuffle(v, clr_quad_span_subtrahend(axis, coarse));
+}
+static inline clr_span_float4 clr_span_quad_difference(clr_span_fragment* f, clr_span_float4 v, int axis, bool coarse) {
+  const clr_span_float4 d = {clr_quad_span_difference(v.x, axis, coarse), clr_quad_span_difference(v.y, axis, coarse),
+                             clr_quad_span_difference(v.z, axis, coarse), clr_quad_span_difference(v.w, axis, coarse)};
+  return d;
+}
+#else
+static inline clr_span_float4 clr_span_quad_difference(clr_span_fragment* f, clr_span_float4 v, int axis, bool coarse) {
+  const float4 d = clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v.x, v.y, v.z, v.w), axis, coarse);
+  const clr_span_float4 result = {d.x, d.y, d.z, d.w};
+  return result;
+}
+#endif
+
+#define CLR_DERIVATIVE(name, axis, coarse)                                                                      \
+  __attribute__((overloadable)) inline float name(clr_fragment* f, float v) {                                   \
+    return clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v, 0.0f, 0.0f, 0.0f), axis, coarse).x;       \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline float2 name(clr_fragment* f, float2 v) {                                 \
+    return clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v, 0.0f, 0.0f), axis, coarse).xy;            \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline float3 name(clr_fragment* f, float3 v) {                                 \
+    return clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v, 0.0f), axis, coarse).xyz;                 \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline float4 name(clr_fragment* f, float4 v) {                                 \
+    return clr_quad_difference(f->clr_quad, f->clr_lane, v, axis, coarse);                                      \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline clr_span_float name(clr_span_fragment* f, clr_span_float v) {            \
+    const clr_span_float4 value = {v, 0.0f, 0.0f, 0.0f};                                                        \
+    return clr_span_quad_difference(f, value, axis, coarse).x;                                                  \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline clr_span_float2 name(clr_span_fragment* f, clr_span_float2 v) {          \
+    const clr_span_float4 value = {v.x, v.y, 0.0f, 0.0f};                                                       \
+    const clr_span_float4 d = clr_span_quad_difference(f, value, axis, coarse);                                 \
+    const clr_span_float2 result = {d.x, d.y};                                                                  \
+    return result;                                                                                              \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline clr_span_float3 name(clr_span_fragment* f, clr_span_float3 v) {          \
+    const clr_span_float4 value = {v.x, v.y, v.z, 0.0f};                                                        \
+    const clr_span_float4 d = clr_span_quad_difference(f, value, axis, coarse);                                 \
+    const clr_span_float3 result = {d.x, d.y, d.z};                                                             \
+    return result;                                                                                              \
+  }                                                                                                              \
+  __attribute__((overloadable)) inline clr_span_float4 name(clr_span_fragment* f, clr_span_float4 v) {          \
+    return clr_span_quad_difference(f, v, axis, coarse);                                                        \
   }
 CLR_DERIVATIVE(clr_dfdx_fine, CLR_QUAD_X, false)
 CLR_DERIVATIVE(clr_dfdy_fine, CLR_QUAD_Y, false)
@@ -103,12 +153,31 @@ static __attribute__((overloadable)) inline float3 clr_fwidth(clr_fragment* f, f
 static __attribute__((overloadable)) inline float4 clr_fwidth(clr_fragment* f, float4 v) {
   return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
 }
+static __attribute__((overloadable)) inline clr_span_float clr_fwidth(clr_span_fragment* f, clr_span_float v) {
+  return fabs(clr_dfdx(f, v)) + fabs(clr_dfdy(f, v));
+}
+static __attribute__((overloadable)) inline clr_span_float2 clr_fwidth(clr_span_fragment* f, clr_span_float2 v) {
+  const clr_span_float2 dx = clr_dfdx(f, v), dy = clr_dfdy(f, v);
+  const clr_span_float2 result = {fabs(dx.x) + fabs(dy.x), fabs(dx.y) + fabs(dy.y)};
+  return result;
+}
+static __attribute__((overloadable)) inline clr_span_float3 clr_fwidth(clr_span_fragment* f, clr_span_float3 v) {
+  const clr_span_float3 dx = clr_dfdx(f, v), dy = clr_dfdy(f, v);
+  const clr_span_float3 result = {fabs(dx.x) + fabs(dy.x), fabs(dx.y) + fabs(dy.y), fabs(dx.z) + fabs(dy.z)};
+  return result;
+}
+static __attribute__((overloadable)) inline clr_span_float4 clr_fwidth(clr_span_fragment* f, clr_span_float4 v) {
+  const clr_span_float4 dx = clr_dfdx(f, v), dy = clr_dfdy(f, v);
+  const clr_span_float4 result = {fabs(dx.x) + fabs(dy.x), fabs(dx.y) + fabs(dy.y), fabs(dx.z) + fabs(dy.z),
+                                  fabs(dx.w) + fabs(dy.w)};
+  return result;
+}
 
 /* ---- Textures ------------------------------------------------------------------------------------
  * clr_sample_lod, clr_sample_grad, clr_texel_fetch(_int, _uint), clr_texture_size and
  * clr_texture_levels work in any program (resources/texture.cl). In fragment programs clr_sample
  * picks the level of detail from the quad's derivatives of uv, as GLSL's texture() does. */
-static inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
+static __attribute__((overloadable)) inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
   barrier(CLK_LOCAL_MEM_FENCE);
   f->clr_quad[f->clr_lane] = (float4)(uv, 0.0f, 0.0f);
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -119,6 +188,12 @@ static inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv)
   const float2 duv_dx = f->clr_quad[corner + 1].xy - f->clr_quad[corner].xy;
   const float2 duv_dy = f->clr_quad[corner + CLR_TILE_SIZE].xy - f->clr_quad[corner].xy;
   return clr_sample_grad(texture, uv, duv_dx, duv_dy);
+}
+/* The same for a span: the quad's differences along its first row and column are its coarse
+ * derivatives. */
+static __attribute__((overloadable)) inline clr_span_float4 clr_sample(clr_span_fragment* f, clr_texture texture,
+                                                                       clr_span_float2 uv) {
+  return clr_sample_grad(texture, uv, clr_dfdx_coarse(f, uv), clr_dfdy_coarse(f, uv));
 }
 
 /* ---- Vertex attributes (used by the generated fetch) ----------------------------------------------- */

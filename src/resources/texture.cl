@@ -155,7 +155,7 @@ float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
 }
 
 /* textureLod: an explicit level of detail, to which the sampler's bias and lod range still apply. */
-float4 clr_sample_lod(clr_texture t, float2 uv, float lod) { return clr_sample_lambda(t, uv, lod); }
+__attribute__((overloadable)) float4 clr_sample_lod(clr_texture t, float2 uv, float lod) { return clr_sample_lambda(t, uv, lod); }
 
 /* log2(x) approximated as llvmpipe's lp_build_fast_log2 does: exact at powers of two and linear in
  * between, floor(log2(x)) + x / 2^floor(log2(x)) - 1, at most 0.086 below log2(x). Zero, infinities
@@ -173,7 +173,7 @@ float clr_fast_log2(float x) {
  * llvmpipe does (gallivm's lp_build_lod_selector: lambda_base = 0.5 * fast_log2(rho^2)), so that its
  * mip selection and trilinear weights agree with the oracle's: exact log2 chose levels up to 0.043
  * higher than llvmpipe across a receding plane, enough to move trilinear results by several 1/255. */
-float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
+__attribute__((overloadable)) float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
   const float2 size = (float2)((float)t.desc->width, (float)t.desc->height);
   const float2 dx = duv_dx * size;
   const float2 dy = duv_dy * size;

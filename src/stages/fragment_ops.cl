@@ -17,9 +17,9 @@
  * here work on spans: one vector lane per pixel and one vector per colour channel (structure of
  * arrays), so that one instruction does the work of every pixel of the span, under the draw's state
  * decided once per span. Spans are CLR_CPU_SPAN_PIXELS wide where one work-item walks a whole tile
- * (CPU shapes, clr_limits.h) and one pixel wide where each work-item has its pixel (GPU shapes,
- * quad shading), or where the program's own depth_test or blend function, which take one fragment,
- * run per fragment. The same source serves both widths, so both compute the same bits.
+ * (CPU shapes, clr_limits.h) and one pixel wide where each work-item has its pixel (GPU shapes, the
+ * quad shading of per-fragment programs), or where the program's own depth_test or blend function,
+ * which take one fragment, run per fragment. The same source serves both widths, so both compute the same bits.
  *
  * Masks are what comparisons give: -1 per true lane in vectors, 1 in scalars. Both are true to
  * select(), &&, || and !, and clr_span_any tests them; ~ is never applied to a mask (~1 is true).
@@ -29,7 +29,7 @@
  * left as loops (LLVM's cost model keeps those with switches in them), they stay in memory and every
  * pass copies them through the stack. Unrolling took a third of the raster stage's instructions
  * away on fill-16 and a fifth on model-50k. */
-#if CLR_QUAD_SHADING || CLR_PROGRAM_DEPTH_TEST || CLR_PROGRAM_BLEND || \
+#if (CLR_QUAD_SHADING && !CLR_SPAN_PROGRAM) || CLR_PROGRAM_DEPTH_TEST || CLR_PROGRAM_BLEND || \
     CLR_RASTER_GROUP_SIZE >= CLR_TILE_SIZE * CLR_TILE_SIZE
 #define CLR_SPAN_PIXELS 1
 #define CLR_SPAN_SUFFIX
@@ -63,6 +63,17 @@
 #define CLR_SPAN_LANE(type, vector, lane) (((type*)&(vector))[lane])
 #else
 #error "CLR_CPU_SPAN_PIXELS must be 8"
+#endif
+/* Quad spans: a span program that takes derivatives, in spans of eight, shades two 2x2 quads side by
+ * side, a block of 4x2 pixels: lanes 0-3 the lower row (even window y) from an x that is a multiple
+ * of 4, lanes 4-7 the row above. Its derivatives are differences between lanes (prelude.cl), and the
+ * block's uncovered pixels are its helpers. A per-fragment program shades its quads one pixel to a
+ * work-item instead, exchanging values through local memory at barriers (raster.cl), and so does a
+ * span program in spans of one pixel (GPU shapes). */
+#define CLR_QUAD_SPANS (CLR_QUAD_SHADING && CLR_SPAN_PIXELS > 1)
+#if CLR_SPAN_PIXELS == 8
+#define CLR_QUAD_SPAN_X (int8)(0, 1, 2, 3, 0, 1, 2, 3) /* each lane's pixel from the block's first */
+#define CLR_QUAD_SPAN_Y (int8)(0, 0, 0, 0, 1, 1, 1, 1)
 #endif
 #define CLR_SPAN_PASTE(a, b) a##b
 #define CLR_SPAN_CAT(a, b) CLR_SPAN_PASTE(a, b)

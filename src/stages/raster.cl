@@ -37,13 +37,15 @@
 #define CLR_TILE_PIXELS (CLR_TILE_SIZE * CLR_TILE_SIZE)
 #define CLR_TILE_TARGETS (CLR_NUM_OUTPUTS > 0 ? CLR_NUM_OUTPUTS : 1)
 #define CLR_TILE_MASK_WORDS (CLR_TILE_PIXELS / 64) /* 64-bit words of one triangle's coverage of a tile */
-/* Quad shading exchanges values between the pixels of a quad at barriers: one work-item per pixel,
- * of the tile where the context's shape has a work-item per pixel (GPUs), else of one quad at a
- * time. Other programs take the context's shape (clr_limits.h). */
+/* Quad shading in spans of one pixel exchanges values between the pixels of a quad at barriers: one
+ * work-item per pixel, of the tile where the context's shape has a work-item per pixel (GPUs), else
+ * of one quad at a time. Other programs, quad spans included (fragment_ops.cl), take the context's
+ * shape (clr_limits.h). */
 #define CLR_QUAD_PIXELS 4
-#if CLR_QUAD_SHADING && CLR_RASTER_GROUP_SIZE >= CLR_TILE_PIXELS
+#define CLR_QUAD_EXCHANGE (CLR_QUAD_SHADING && !CLR_QUAD_SPANS)
+#if CLR_QUAD_EXCHANGE && CLR_RASTER_GROUP_SIZE >= CLR_TILE_PIXELS
 #define CLR_RASTER_GROUP CLR_TILE_PIXELS
-#elif CLR_QUAD_SHADING
+#elif CLR_QUAD_EXCHANGE
 #define CLR_RASTER_GROUP CLR_QUAD_PIXELS
 #else
 #define CLR_RASTER_GROUP CLR_RASTER_GROUP_SIZE
@@ -508,6 +510,8 @@ CLR_INLINE void shade_span(const clr_fragment* f, const __local SetupTriangle* t
   g.uniforms = f->uniforms;
   g.textures = f->textures;
   g.buffers = f->buffers;
+  g.clr_quad = f->clr_quad;
+  g.clr_lane = CLR_PLACE_LANE_PIXEL(*place, 0);
   fragment_span(&g);
   clr_span_program_results(&g.out, outputs);
 }
@@ -551,14 +555,21 @@ CLR_INLINE void process_span(const __local SetupTriangle* t, const clr_span_plac
 #endif
   const clr_span_int written = fragment_tests(f, front_facing, covered, w.z, u, tile_depth, tile_stencil, place);
   const uint passed = clr_span_bits_of_lanes(written);
+#if CLR_QUAD_EXCHANGE
+  /* A span program in spans of one pixel that takes derivatives: every pixel runs it, helpers and
+   * hidden fragments too, so that its quad has values to exchange at the barriers. */
+  const bool shaded = true;
+#else
+  const bool shaded = passed != 0;
+#endif
   /* Two ifs, not one &&: program_depth_test is a constant in most programs, and clang warns about
    * && with a constant operand on stderr, which the examples require to be empty. */
-  if (passed != 0) {
+  if (shaded) {
     if (!weighed_before_tests) interpolation_weights(t, place, &w);
     if (!program_depth_test) interpolate_span(t, w, &s); /* a program's depth test had it done first */
   }
 #if CLR_SPAN_PROGRAM
-  if (passed != 0) shade_span(f, t, w, &s, place, written, &outputs);
+  if (shaded) shade_span(f, t, w, &s, place, written, &outputs);
 #else
   /* A per-fragment program runs for the lanes that passed only, in order: a span of a small
    * triangle has one or two. A span that passed whole takes the lanes in an unrolled loop instead:
@@ -634,7 +645,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   __local uint tile_color[CLR_TILE_TARGETS * 4 * CLR_TILE_CHANNEL_WORDS]; /* CLR_TILE_WORD */
   __local float tile_depth[CLR_TILE_CHANNEL_WORDS];
   __local uchar tile_stencil[CLR_TILE_CHANNEL_WORDS];
-#if CLR_QUAD_SHADING
+#if CLR_QUAD_EXCHANGE
   __local float4 quad_exchange[CLR_TILE_PIXELS];
 #endif
   /* Work-groups take the tiles in runs of CLR_RASTER_TILE_RUN, the runs in an order that strides
@@ -719,7 +730,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
   clr_fragment f = {0};
   f.clr_tile = tile_color;
   f.clr_draw = u;
-#if CLR_QUAD_SHADING
+#if CLR_QUAD_EXCHANGE
   f.clr_quad = quad_exchange;
 #endif
   CLR_BIND_RESOURCES(f);
@@ -735,7 +746,30 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     }
     for (uint i = item; i < n; i += CLR_RASTER_GROUP) coverage_mask(&batch[i], origin, masks[i], &coverage[i]);
     barrier(CLK_LOCAL_MEM_FENCE);
-#if CLR_QUAD_SHADING && CLR_RASTER_GROUP == CLR_QUAD_PIXELS
+#if CLR_QUAD_SPANS
+    /* Blocks of two quads (fragment_ops.cl), the blocks that have a pixel of the triangle: a block's
+     * pixels are in one word of a mask, which holds whole rows, an even number of them. */
+    for (uint i = 0; i < n; ++i) {
+      for (int w = coverage[i].first_word; w < coverage[i].end_word; ++w) {
+        for (ulong left = masks[i][w]; left != 0;) {
+          const uint bit = (63 - clz(left & (0 - left))) & 63;
+          const uint corner = (bit / CLR_TILE_SIZE & ~1u) * CLR_TILE_SIZE + (bit % CLR_TILE_SIZE & ~3u);
+          left &= ~((0xful | 0xful << CLR_TILE_SIZE) << corner);
+          const uint covered = (uint)(masks[i][w] >> corner) & 0xfu | ((uint)(masks[i][w] >> (corner + CLR_TILE_SIZE)) & 0xfu) << 4;
+          const uint first_pixel = (uint)w * 64 + corner;
+          clr_span_place place;
+          place.x = 0;
+          place.y = 0;
+          place.first = 0;
+          place.xs = origin.x + (int)(first_pixel % CLR_TILE_SIZE) + CLR_QUAD_SPAN_X;
+          place.ys = origin.y + (int)(first_pixel / CLR_TILE_SIZE) + CLR_QUAD_SPAN_Y;
+          place.pixels = first_pixel + CLR_SPAN_AS(uint, CLR_QUAD_SPAN_X + CLR_QUAD_SPAN_Y * CLR_TILE_SIZE);
+          place.packed = true;
+          process_span(&batch[i], &place, clr_span_lanes_from_bits(covered), &f, tile_color, tile_depth, tile_stencil, u);
+        }
+      }
+    }
+#elif CLR_QUAD_EXCHANGE && CLR_RASTER_GROUP == CLR_QUAD_PIXELS
     /* One work-item per pixel of a quad: the four walk the quads each triangle covers together,
      * every one deciding from the same masks, so all of them reach the program's barriers. A quad's
      * pixels are in one word of a mask: a word holds whole rows, an even number of them. */
@@ -754,7 +788,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
         }
       }
     }
-#elif CLR_QUAD_SHADING
+#elif CLR_QUAD_EXCHANGE
     /* One work-item per pixel: every one runs the program for each triangle that covers any pixel
      * of the tile, the uncovered ones as helpers. */
     const int x = origin.x + (int)(item % CLR_TILE_SIZE);
