@@ -3,7 +3,7 @@
 // plane, culling, scissor, additive blending; and a user program shaded in quads (derivatives and
 // texture sampling exchange values between work-items) into two attachments with stencil, blending
 // and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device; and
-// mipmaps of a texture with odd sides. Run under Oclgrind by oclgrind_check.sh, which fails on any
+// mipmaps of a texture with odd sides; and a span program shaded in quads, sampling three textures. Run under Oclgrind by oclgrind_check.sh, which fails on any
 // data race, out-of-bounds access, uninitialized read or API error Oclgrind reports. With the
 // argument "wide", in the GPU's work-group shapes (many work-items per tile and per scan block,
 // where races would show), else in the device's: Oclgrind calls itself a CPU too.
@@ -106,6 +106,46 @@ void fragment(clr_fragment* f) {
                                   clraster::BlendFactor::One, clraster::BlendFactor::One, {true, true, true, true}};
     layers.draw(overlapping);
     color.generate_mipmaps();
+
+    // A span program shaded in quads: in the device's shapes blocks of two quads, derivatives
+    // between lanes and samples in vectors, of an RGBA8 texture, of the sRGB one with odd sides,
+    // mirrored (the wrap's division), and of the half-float one (texels loaded lane by lane); in the
+    // wide shapes values exchanged between work-items.
+    const char* const span_source = R"(
+clr_attribute(float2, corner)
+clr_varying(float2, uv)
+clr_texture(pattern)
+clr_texture(odd)
+clr_texture(halves)
+clr_output(float4, color)
+void vertex(clr_vertex* v) {
+  v->position = (float4)(v->in.corner * 0.9f, 0.3f, 1.0f);
+  v->out.uv = v->in.corner * 2.5f;
+}
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float4 a = clr_sample(f, f->textures.pattern, f->in.uv);
+  const clr_span_float4 b = clr_sample(f, f->textures.odd, f->in.uv);
+  const clr_span_float4 c = clr_sample(f, f->textures.halves, f->in.uv);
+  const clr_span_float2 width = clr_fwidth(f, f->in.uv);
+  f->out.color.x = a.x + b.x + width.x;
+  f->out.color.y = a.y + c.y + clr_dfdy_fine(f, f->in.uv.y);
+  f->out.color.z = b.z + c.z;
+  f->out.color.w = 1.0f;
+}
+)";
+    const clraster::Program span_program(context, span_source, "oclgrind_span.cl");
+    clraster::Bindings span_bindings(span_program);
+    clraster::Sampler mirrored;
+    mirrored.mip_filter = clraster::MipFilter::Nearest;
+    mirrored.wrap_s = mirrored.wrap_t = clraster::Wrap::MirroredRepeat;
+    span_bindings.set_texture("pattern", pattern).set_texture("odd", texture, mirrored).set_texture("halves", color);
+    clraster::DrawCall quads;
+    quads.program = &span_program;
+    quads.bindings = &span_bindings;
+    quads.attributes = {{"corner", &corner_buffer, clraster::AttributeType::Float2}};
+    quads.count = 3;
+    target.draw(quads);
+    std::printf("span program: %zu pixels\n", target.read_color().rgba.size() / 4);
     std::printf("rendered %dx%d and %dx%d (%zu stencil bytes)\n", image.width, image.height, layers.width(),
                 layers.height(), layers.read_stencil().size());
     return 0;

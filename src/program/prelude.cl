@@ -88,16 +88,21 @@ static inline uint8 clr_quad_span_subtrahend(int axis, bool coarse) {
 static inline clr_span_float clr_quad_span_difference(clr_span_float v, int axis, bool coarse) {
   return shuffle(v, clr_quad_span_minuend(axis, coarse)) - shuffle(v, clr_quad_span_subtrahend(axis, coarse));
 }
-static inline clr_span_float4 clr_span_quad_difference(clr_span_fragment* f, clr_span_float4 v, int axis, bool coarse) {
-  const clr_span_float4 d = {clr_quad_span_difference(v.x, axis, coarse), clr_quad_span_difference(v.y, axis, coarse),
-                             clr_quad_span_difference(v.z, axis, coarse), clr_quad_span_difference(v.w, axis, coarse)};
-  return d;
+/* *v becomes its difference along `axis` (an out-parameter, not a returned structure: LLVM's inliner
+ * marks those with an intrinsic that Oclgrind cannot run). */
+static inline void clr_span_quad_difference(clr_span_fragment* f, clr_span_float4* v, int axis, bool coarse) {
+  v->x = clr_quad_span_difference(v->x, axis, coarse);
+  v->y = clr_quad_span_difference(v->y, axis, coarse);
+  v->z = clr_quad_span_difference(v->z, axis, coarse);
+  v->w = clr_quad_span_difference(v->w, axis, coarse);
 }
 #else
-static inline clr_span_float4 clr_span_quad_difference(clr_span_fragment* f, clr_span_float4 v, int axis, bool coarse) {
-  const float4 d = clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v.x, v.y, v.z, v.w), axis, coarse);
-  const clr_span_float4 result = {d.x, d.y, d.z, d.w};
-  return result;
+static inline void clr_span_quad_difference(clr_span_fragment* f, clr_span_float4* v, int axis, bool coarse) {
+  const float4 d = clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v->x, v->y, v->z, v->w), axis, coarse);
+  v->x = d.x;
+  v->y = d.y;
+  v->z = d.z;
+  v->w = d.w;
 }
 #endif
 
@@ -115,23 +120,25 @@ static inline clr_span_float4 clr_span_quad_difference(clr_span_fragment* f, clr
     return clr_quad_difference(f->clr_quad, f->clr_lane, v, axis, coarse);                                      \
   }                                                                                                              \
   __attribute__((overloadable)) inline clr_span_float name(clr_span_fragment* f, clr_span_float v) {            \
-    const clr_span_float4 value = {v, 0.0f, 0.0f, 0.0f};                                                        \
-    return clr_span_quad_difference(f, value, axis, coarse).x;                                                  \
+    clr_span_float4 d = {v, 0.0f, 0.0f, 0.0f};                                                                  \
+    clr_span_quad_difference(f, &d, axis, coarse);                                                              \
+    return d.x;                                                                                                 \
   }                                                                                                              \
   __attribute__((overloadable)) inline clr_span_float2 name(clr_span_fragment* f, clr_span_float2 v) {          \
-    const clr_span_float4 value = {v.x, v.y, 0.0f, 0.0f};                                                       \
-    const clr_span_float4 d = clr_span_quad_difference(f, value, axis, coarse);                                 \
+    clr_span_float4 d = {v.x, v.y, 0.0f, 0.0f};                                                                 \
+    clr_span_quad_difference(f, &d, axis, coarse);                                                              \
     const clr_span_float2 result = {d.x, d.y};                                                                  \
     return result;                                                                                              \
   }                                                                                                              \
   __attribute__((overloadable)) inline clr_span_float3 name(clr_span_fragment* f, clr_span_float3 v) {          \
-    const clr_span_float4 value = {v.x, v.y, v.z, 0.0f};                                                        \
-    const clr_span_float4 d = clr_span_quad_difference(f, value, axis, coarse);                                 \
+    clr_span_float4 d = {v.x, v.y, v.z, 0.0f};                                                                  \
+    clr_span_quad_difference(f, &d, axis, coarse);                                                              \
     const clr_span_float3 result = {d.x, d.y, d.z};                                                             \
     return result;                                                                                              \
   }                                                                                                              \
   __attribute__((overloadable)) inline clr_span_float4 name(clr_span_fragment* f, clr_span_float4 v) {          \
-    return clr_span_quad_difference(f, v, axis, coarse);                                                        \
+    clr_span_quad_difference(f, &v, axis, coarse);                                                              \
+    return v;                                                                                                   \
   }
 CLR_DERIVATIVE(clr_dfdx_fine, CLR_QUAD_X, false)
 CLR_DERIVATIVE(clr_dfdy_fine, CLR_QUAD_Y, false)
@@ -193,7 +200,11 @@ static __attribute__((overloadable)) inline float4 clr_sample(clr_fragment* f, c
  * derivatives. */
 static __attribute__((overloadable)) inline clr_span_float4 clr_sample(clr_span_fragment* f, clr_texture texture,
                                                                        clr_span_float2 uv) {
-  return clr_sample_grad(texture, uv, clr_dfdx_coarse(f, uv), clr_dfdy_coarse(f, uv));
+  clr_span_float4 dx = {uv.x, uv.y, 0.0f, 0.0f}, dy = dx;
+  clr_span_quad_difference(f, &dx, CLR_QUAD_X, true);
+  clr_span_quad_difference(f, &dy, CLR_QUAD_Y, true);
+  const clr_span_float2 duv_dx = {dx.x, dx.y}, duv_dy = {dy.x, dy.y};
+  return clr_sample_grad(texture, uv, duv_dx, duv_dy);
 }
 
 /* ---- Vertex attributes (used by the generated fetch) ----------------------------------------------- */

@@ -43,52 +43,57 @@ static inline clr_span_int clr_span_floor_to_int(clr_span_float u) {
   return CLR_SPAN_CONVERT(int, fmin(fmax(floor(u), -CLR_TEXEL_COORDINATE_LIMIT), CLR_TEXEL_COORDINATE_LIMIT));
 }
 
-/* The texels at `index` (texels from the start of the buffer), decoded as clr_load_texel_float does. */
-static inline clr_span_float4 clr_span_load_texels(clr_texture t, clr_span_uint index) {
+/* The texels at `index` (texels from the start of the buffer), decoded as clr_load_texel_float does,
+ * into *texel. (Out-parameters here, not returned structures: LLVM's inliner marks a returned
+ * structure with an intrinsic that Oclgrind cannot run.) */
+static inline void clr_span_load_texels(clr_texture t, clr_span_uint index, clr_span_float4* texel) {
   const int format = t.desc->format;
-  clr_span_float4 texel;
 #ifdef __ENDIAN_LITTLE__
   if (format == CLR_FORMAT_RGBA8 || format == CLR_FORMAT_SRGB8_A8) { /* byte c of the word is channel c */
     const clr_span_uint bits = CLR_SPAN_GATHER((__global const uint*)t.data, index);
     const clr_span_uint r = bits & 0xffu, g = bits >> 8 & 0xffu, b = bits >> 16 & 0xffu;
     if (format == CLR_FORMAT_SRGB8_A8) {
-      texel.x = CLR_SPAN_GATHER(clr_srgb_to_linear_table, r);
-      texel.y = CLR_SPAN_GATHER(clr_srgb_to_linear_table, g);
-      texel.z = CLR_SPAN_GATHER(clr_srgb_to_linear_table, b);
+      texel->x = CLR_SPAN_GATHER(clr_srgb_to_linear_table, r);
+      texel->y = CLR_SPAN_GATHER(clr_srgb_to_linear_table, g);
+      texel->z = CLR_SPAN_GATHER(clr_srgb_to_linear_table, b);
     } else {
-      texel.x = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, r));
-      texel.y = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, g));
-      texel.z = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, b));
+      texel->x = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, r));
+      texel->y = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, g));
+      texel->z = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, b));
     }
-    texel.w = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, bits >> 24));
-    return texel;
+    texel->w = clr_unorm8_to_float(CLR_SPAN_CONVERT(float, bits >> 24));
+    return;
   }
 #endif
 #pragma unroll
   for (int lane = 0; lane < CLR_SPAN_PIXELS; ++lane) {
     const float4 value = clr_load_texel_float(format, t.data, CLR_SPAN_LANE(uint, index, lane));
-    CLR_SPAN_SET_LANE(texel.x, lane, value.x);
-    CLR_SPAN_SET_LANE(texel.y, lane, value.y);
-    CLR_SPAN_SET_LANE(texel.z, lane, value.z);
-    CLR_SPAN_SET_LANE(texel.w, lane, value.w);
+    CLR_SPAN_SET_LANE(texel->x, lane, value.x);
+    CLR_SPAN_SET_LANE(texel->y, lane, value.y);
+    CLR_SPAN_SET_LANE(texel->z, lane, value.z);
+    CLR_SPAN_SET_LANE(texel->w, lane, value.w);
   }
-  return texel;
 }
 
-/* a + (b - a) * w per channel: mix, as texture.cl's float4 mix computes it per channel. */
-static inline clr_span_float4 clr_span_mix(clr_span_float4 a, clr_span_float4 b, clr_span_float w) {
-  const clr_span_float4 m = {mix(a.x, b.x, w), mix(a.y, b.y, w), mix(a.z, b.z, w), mix(a.w, b.w, w)};
-  return m;
+/* *a = mix(*a, b, w) per channel, as texture.cl's float4 mix computes it. */
+static inline void clr_span_mix_into(clr_span_float4* a, clr_span_float4 b, clr_span_float w) {
+  a->x = mix(a->x, b.x, w);
+  a->y = mix(a->y, b.y, w);
+  a->z = mix(a->z, b.z, w);
+  a->w = mix(a->w, b.w, w);
 }
 
-static inline clr_span_float4 clr_span_select4(clr_span_float4 a, clr_span_float4 b, clr_span_int take_b) {
-  const clr_span_float4 s = {select(a.x, b.x, take_b), select(a.y, b.y, take_b), select(a.z, b.z, take_b),
-                             select(a.w, b.w, take_b)};
-  return s;
+/* *a = b where `take_b`. */
+static inline void clr_span_select_into(clr_span_float4* a, clr_span_float4 b, clr_span_int take_b) {
+  a->x = select(a->x, b.x, take_b);
+  a->y = select(a->y, b.y, take_b);
+  a->z = select(a->z, b.z, take_b);
+  a->w = select(a->w, b.w, take_b);
 }
 
-/* clr_filter_level, each lane at its own level (one the texture has). */
-static clr_span_float4 clr_span_filter_level(clr_texture t, clr_span_float2 uv, clr_span_int level, int filter) {
+/* clr_filter_level, each lane at its own level (one the texture has), into *result. */
+static void clr_span_filter_level(clr_texture t, clr_span_float2 uv, clr_span_int level, int filter,
+                                  clr_span_float4* result) {
   __constant const TextureDesc* desc = t.desc;
   const clr_span_int width = max((clr_span_int)(desc->width) >> level, 1);
   const clr_span_int height = max((clr_span_int)(desc->height) >> level, 1);
@@ -99,7 +104,8 @@ static clr_span_float4 clr_span_filter_level(clr_texture t, clr_span_float2 uv, 
   if (filter == CLR_FILTER_NEAREST) {
     const clr_span_int i = clr_span_wrap(desc->wrap_s, clr_span_floor_to_int(u), width);
     const clr_span_int j = clr_span_wrap(desc->wrap_t, clr_span_floor_to_int(v), height);
-    return clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i, j));
+    clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i, j), result);
+    return;
   }
   const clr_span_float corner_u = u - 0.5f, corner_v = v - 0.5f;
   const clr_span_float base_u = floor(corner_u), base_v = floor(corner_v);
@@ -111,28 +117,38 @@ static clr_span_float4 clr_span_filter_level(clr_texture t, clr_span_float2 uv, 
   const clr_span_int i1 = clr_span_wrap(desc->wrap_s, i + 1, width);
   const clr_span_int j0 = clr_span_wrap(desc->wrap_t, j, height);
   const clr_span_int j1 = clr_span_wrap(desc->wrap_t, j + 1, height);
-  const clr_span_float4 t00 = clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i0, j0));
-  const clr_span_float4 t10 = clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i1, j0));
-  const clr_span_float4 t01 = clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i0, j1));
-  const clr_span_float4 t11 = clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i1, j1));
+  clr_span_float4 t00, t10, t01, t11;
+  clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i0, j0), &t00);
+  clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i1, j0), &t10);
+  clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i0, j1), &t01);
+  clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i1, j1), &t11);
 #undef CLR_SPAN_TEXEL_INDEX
-  return clr_span_mix(clr_span_mix(t00, t10, alpha), clr_span_mix(t01, t11, alpha), beta);
+  /* mix(mix(t00, t10, alpha), mix(t01, t11, alpha), beta) */
+  clr_span_mix_into(&t00, t10, alpha);
+  clr_span_mix_into(&t01, t11, alpha);
+  clr_span_mix_into(&t00, t01, beta);
+  *result = t00;
 }
 
 /* The same at each lane's level, with the magnification filter where `magnified`, else the
  * minification one: one filter for the span where they agree. */
-static clr_span_float4 clr_span_filter_levels(clr_texture t, clr_span_float2 uv, clr_span_int level, clr_span_int magnified) {
+static void clr_span_filter_levels(clr_texture t, clr_span_float2 uv, clr_span_int level, clr_span_int magnified,
+                                   clr_span_float4* result) {
   __constant const TextureDesc* desc = t.desc;
   if (desc->mag_filter == desc->min_filter || !clr_span_any(magnified)) {
-    return clr_span_filter_level(t, uv, level, desc->min_filter);
+    clr_span_filter_level(t, uv, level, desc->min_filter, result);
+  } else if (all(magnified)) {
+    clr_span_filter_level(t, uv, level, desc->mag_filter, result);
+  } else {
+    clr_span_float4 magnification;
+    clr_span_filter_level(t, uv, level, desc->min_filter, result);
+    clr_span_filter_level(t, uv, level, desc->mag_filter, &magnification);
+    clr_span_select_into(result, magnification, magnified);
   }
-  if (all(magnified)) return clr_span_filter_level(t, uv, level, desc->mag_filter);
-  return clr_span_select4(clr_span_filter_level(t, uv, level, desc->min_filter),
-                          clr_span_filter_level(t, uv, level, desc->mag_filter), magnified);
 }
 
 /* clr_sample_lambda: each lane's level(s) and weight as texture.cl picks them, then the filter. */
-static clr_span_float4 clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_float lambda_base) {
+static void clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_float lambda_base, clr_span_float4* result) {
   __constant const TextureDesc* desc = t.desc;
   const float bias = clamp(desc->lod_bias, -CLR_MAX_TEXTURE_LOD_BIAS, CLR_MAX_TEXTURE_LOD_BIAS);
   const clr_span_float lambda = fmin(fmax(lambda_base + bias, desc->min_lod), desc->max_lod);
@@ -143,7 +159,8 @@ static clr_span_float4 clr_span_sample_lambda(clr_texture t, clr_span_float2 uv,
       const clr_span_int nearest = CLR_SPAN_CONVERT(int, ceil(lambda + 0.5f)) - 1;
       clr_span_int level = select((clr_span_int)(q), nearest, lambda <= (float)q + 0.5f);
       level = select(level, (clr_span_int)(0), lambda <= 0.5f);
-      return clr_span_filter_levels(t, uv, level, magnified);
+      clr_span_filter_levels(t, uv, level, magnified, result);
+      return;
     }
     case CLR_MIP_LINEAR: {
       /* Lanes at or past the last level (or NaN) take it alone, and magnified lanes level 0. */
@@ -152,15 +169,18 @@ static clr_span_float4 clr_span_sample_lambda(clr_texture t, clr_span_float2 uv,
       const clr_span_int alone = last || magnified;
       const clr_span_int finer_level = select(select(CLR_SPAN_CONVERT(int, d1), (clr_span_int)(q), last), (clr_span_int)(0), magnified);
       const clr_span_float weight = select(lambda - d1, (clr_span_float)(0.0f), alone);
-      const clr_span_float4 finer = clr_span_filter_levels(t, uv, finer_level, magnified);
+      clr_span_filter_levels(t, uv, finer_level, magnified, result); /* the finer level */
       /* A whole lambda takes level d1 alone (and saves filtering the coarser one). */
       const clr_span_int blended = weight != 0.0f;
-      if (!clr_span_any(blended)) return finer;
-      const clr_span_float4 coarser =
-          clr_span_filter_level(t, uv, select(finer_level, finer_level + 1, blended), desc->min_filter);
-      return clr_span_select4(finer, clr_span_mix(finer, coarser, weight), blended);
+      if (!clr_span_any(blended)) return;
+      clr_span_float4 coarser;
+      clr_span_filter_level(t, uv, select(finer_level, finer_level + 1, blended), desc->min_filter, &coarser);
+      clr_span_float4 mixed = *result;
+      clr_span_mix_into(&mixed, coarser, weight);
+      clr_span_select_into(result, mixed, blended);
+      return;
     }
-    default: return clr_span_filter_levels(t, uv, (clr_span_int)(0), magnified); /* CLR_MIP_NONE */
+    default: clr_span_filter_levels(t, uv, (clr_span_int)(0), magnified, result); /* CLR_MIP_NONE */
   }
 }
 
@@ -178,11 +198,15 @@ __attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr
   const clr_span_float dx_u = duv_dx.x * width, dx_v = duv_dx.y * height;
   const clr_span_float dy_u = duv_dy.x * width, dy_v = duv_dy.y * height;
   const clr_span_float rho_squared = fmax(dx_u * dx_u + dx_v * dx_v, dy_u * dy_u + dy_v * dy_v);
-  return clr_span_sample_lambda(t, uv, 0.5f * clr_span_fast_log2(rho_squared));
+  clr_span_float4 result;
+  clr_span_sample_lambda(t, uv, 0.5f * clr_span_fast_log2(rho_squared), &result);
+  return result;
 }
 
 __attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv, clr_span_float lod) {
-  return clr_span_sample_lambda(t, uv, lod);
+  clr_span_float4 result;
+  clr_span_sample_lambda(t, uv, lod, &result);
+  return result;
 }
 
 #else /* spans of one pixel: texture.cl's sample */
