@@ -1,11 +1,13 @@
 #include "bench/runner.hpp"
 
+#include "cli/model_draws.hpp"
 #include "oracle/gl_renderer.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -32,20 +34,43 @@ double median_of(const std::vector<StageTimes>& frames, double StageTimes::*stag
   return median(values);
 }
 
+// A textured scene as the command line's models are: its mesh as one part, with its material.
+io::Model material_model(const Scene& scene) {
+  io::Model model;
+  static_cast<io::Mesh&>(model) = scene.mesh;
+  model.materials = {*scene.material};
+  model.parts = {{0, static_cast<std::uint32_t>(scene.mesh.indices.size()), 0}};
+  return model;
+}
+
+// A scene's material is built in and its texture embedded: nothing to warn about. A warning would
+// mean the scene is not drawn as it says.
+void require_no_warnings(const std::vector<std::string>& warnings, const Scene& scene) {
+  if (!warnings.empty()) throw Error("benchmark scene " + scene.name + ": " + warnings.front());
+}
+
 // A scene on clraster: its mesh in device buffers, drawn into textures of the formats GlRenderer
-// draws into.
+// draws into, with its built-in shading or with the material program.
 class ClrasterScene {
  public:
-  ClrasterScene(Context& context, const io::Mesh& mesh, const DrawState& state, int width, int height)
+  ClrasterScene(Context& context, const Scene& scene, const DrawState& state, int width, int height)
       : context_(context),
-        vertices_(context, mesh.positions, mesh.normals),
-        indices_(context, mesh.indices),
+        vertices_(context, scene.mesh.positions, scene.mesh.normals),
+        indices_(context, scene.mesh.indices),
         color_(context, width, height, Format::RGBA8),
         depth_(context, width, height, Format::Depth32F),
         framebuffer_(context, {&color_}, &depth_) {
-    call_.vertices = &vertices_;
-    call_.indices = &indices_;
-    call_.state = state;
+    if (scene.material) {
+      std::vector<std::string> warnings;
+      material_draws_.emplace(context, Program(context, cli::kMaterialProgram, "<material>"), material_model(scene),
+                              cli::view_inputs(scene.camera, width, height), warnings);
+      require_no_warnings(warnings, scene);
+      call_ = material_draws_->calls(vertices_, indices_, state).front();  // the model's one part
+    } else {
+      call_.vertices = &vertices_;
+      call_.indices = &indices_;
+      call_.state = state;
+    }
   }
   ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the call point into it
   ClrasterScene& operator=(const ClrasterScene&) = delete;
@@ -66,17 +91,33 @@ class ClrasterScene {
   Texture color_;
   Texture depth_;
   Framebuffer framebuffer_;
+  std::optional<cli::ClrasterModelDraws> material_draws_;
   DrawCall call_;
 };
 
 class GlScene {
  public:
-  GlScene(const io::Mesh& mesh, const DrawState& state, int width, int height)
-      : renderer_(width, height), mesh_(mesh.positions, mesh.normals, mesh.indices), state_(state) {}
+  GlScene(const Scene& scene, const DrawState& state, int width, int height)
+      : renderer_(width, height), state_(state) {
+    if (scene.material) {
+      model_ = material_model(scene);
+      std::vector<std::string> warnings;
+      material_draws_.emplace(*model_, cli::view_inputs(scene.camera, width, height), warnings);
+      require_no_warnings(warnings, scene);
+    } else {
+      mesh_.emplace(scene.mesh.positions, scene.mesh.normals, scene.mesh.indices);
+    }
+  }
+  GlScene(const GlScene&) = delete;  // the material's draws point into the model
+  GlScene& operator=(const GlScene&) = delete;
 
   void frame() {
     renderer_.clear({0, 0, 0, 1}, 1.0f);
-    renderer_.draw(mesh_, 0, kAllElements, state_);
+    if (material_draws_) {
+      material_draws_->draw(renderer_, state_);
+    } else {
+      renderer_.draw(*mesh_, 0, kAllElements, state_);
+    }
     renderer_.finish();
   }
 
@@ -85,8 +126,10 @@ class GlScene {
 
  private:
   oracle::GlRenderer renderer_;
-  oracle::GlMesh mesh_;
   DrawState state_;
+  std::optional<oracle::GlMesh> mesh_;  // a scene with a built-in shading
+  std::optional<io::Model> model_;      // or a textured one
+  std::optional<cli::GlMaterialDraws> material_draws_;
 };
 
 // glibc gives memory freed at the top of a heap back to the system once it exceeds the trim
@@ -107,7 +150,7 @@ double time_first_frame(const Scene& scene, const DrawState& state, const RunOpt
   unprofiled.profile = false;
   const Clock::time_point start = Clock::now();
   Context context(unprofiled);
-  ClrasterScene drawn(context, scene.mesh, state, options.width, options.height);
+  ClrasterScene drawn(context, scene, state, options.width, options.height);
   drawn.frame();
   return milliseconds_since(start);
 }
@@ -128,8 +171,8 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
     ContextOptions profiled = options.context;
     profiled.profile = true;
     Context context(profiled);
-    ClrasterScene ours(context, scene.mesh, state, options.width, options.height);
-    GlScene theirs(scene.mesh, state, options.width, options.height);
+    ClrasterScene ours(context, scene, state, options.width, options.height);
+    GlScene theirs(scene, state, options.width, options.height);
     result.device = context.device().name;
     result.tile_size = context.options().tile_size;
     result.gl_renderer = theirs.renderer();

@@ -1,8 +1,10 @@
 #include "bench/scenes.hpp"
 
+#include "io/image_io.hpp"
 #include "io/procedural.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace clraster::bench {
 namespace {
@@ -33,11 +35,52 @@ io::Mesh layers() { return io::merge(std::vector<io::Mesh>(16, io::make_plane(1,
 // triangles of 0.245 square pixels each.
 io::Mesh tiny_cells() { return io::make_plane(1024, 512, 1.1f, 0.55f); }
 
+// The knot with texture coordinates projected from above, (u, v) = (x, z) / 2: the 1024-texel
+// texture repeats three to four times across the knot, 3 to 4 texels a pixel at 1920x1080 (level
+// of detail 1.6 to 2), more on the tube's steep sides.
+io::Mesh textured_knot() {
+  io::Mesh mesh = knot();
+  mesh.texcoords.reserve(2 * mesh.vertex_count());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    mesh.texcoords.push_back(mesh.positions[3 * v] / 2);
+    mesh.texcoords.push_back(mesh.positions[3 * v + 2] / 2);
+  }
+  return mesh;
+}
+
+// A material whose base colour texture is a picture embedded as a PNG file, as a .glb file embeds
+// one: 1024x1024 squares of 64 texels, light and coloured in turn, along lines of two texels, the
+// coloured ones shading across the picture, so that every mipmap level has detail of its own.
+io::Material pattern_material() {
+  constexpr int kSide = 1024;
+  Image pattern{kSide, kSide, std::vector<std::uint8_t>(std::size_t(kSide) * kSide * 4)};
+  for (int y = 0; y < kSide; ++y) {
+    for (int x = 0; x < kSide; ++x) {
+      std::uint8_t* texel = &pattern.rgba[4 * (std::size_t(y) * kSide + x)];
+      const bool line = x % 64 < 2 || y % 64 < 2;
+      const bool coloured = (x / 64 + y / 64) % 2 != 0;
+      texel[0] = static_cast<std::uint8_t>(line ? 40 : coloured ? 60 + x * 150 / kSide : 235);
+      texel[1] = static_cast<std::uint8_t>(line ? 40 : coloured ? 110 : 225 - y * 60 / kSide);
+      texel[2] = static_cast<std::uint8_t>(line ? 40 : coloured ? 210 - y * 150 / kSide : 190);
+      texel[3] = 255;
+    }
+  }
+  io::Material material;
+  material.name = "pattern";
+  io::MaterialTexture texture;
+  texture.reference = "*0";
+  texture.encoded = io::encode_png(pattern);
+  texture.format_hint = "png";
+  material.base_color_texture = texture;
+  return material;
+}
+
 struct SceneDefinition {
   std::string name;
   io::Mesh (*mesh)();
   io::Camera camera;
   io::BuiltinShading shading;
+  io::Material (*material)() = nullptr;  // for textured scenes
 };
 
 const std::vector<SceneDefinition>& definitions() {
@@ -46,14 +89,16 @@ const std::vector<SceneDefinition>& definitions() {
   // picture's far corners still fall on it: it fills the picture, and about a third of it is in
   // view.
   const io::Camera landscape_view = camera({0.0f, 7.4f, 6.9f}, {0.0f, 0.0f, -0.5f}, 30, 1.0f, 30.0f);
+  // From above at an angle, framed closely as a scanned model would be: the knot covers 37% of the
+  // picture.
+  const io::Camera knot_view = camera({0.0f, 5.8f, 5.6f}, {0.0f, 0.0f, 0.7f}, 45, 3.0f, 12.0f);
   static const std::vector<SceneDefinition> scenes{
-      // From above at an angle, framed closely as a scanned model would be: the knot covers 37% of
-      // the picture.
-      {"model-50k", knot, camera({0.0f, 5.8f, 5.6f}, {0.0f, 0.0f, 0.7f}, 45, 3.0f, 12.0f), BuiltinShading::Normal},
+      {"model-50k", knot, knot_view, BuiltinShading::Normal},
       {"terrain-1m", [] { return landscape(708); }, landscape_view, BuiltinShading::Normal},
       {"terrain-4m", [] { return landscape(1415); }, landscape_view, BuiltinShading::Normal},
       {"fill-16", layers, camera({0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 45, 0.5f, 2.0f), BuiltinShading::Overdraw},
       {"tiny-1m", tiny_cells, camera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 45, 1.0f, 3.0f), BuiltinShading::Normal},
+      {"textured-50k", textured_knot, knot_view, BuiltinShading::Normal, pattern_material},
   };
   return scenes;
 }
@@ -104,7 +149,8 @@ std::vector<std::string> parse_scene_list(const std::string& list) {
 
 Scene make_scene(const std::string& name) {
   const SceneDefinition& scene = definition(name);
-  return {scene.name, scene.mesh(), scene.camera, scene.shading};
+  return {scene.name, scene.mesh(), scene.camera, scene.shading,
+          scene.material ? std::optional(scene.material()) : std::nullopt};
 }
 
 }  // namespace clraster::bench

@@ -12,14 +12,19 @@
 //               16 fragments per pixel, the command line's overdraw shading
 //   tiny-1m     a plane facing the camera of 1024 x 512 cells of 0.7 pixel (1,048,576 triangles of
 //               a quarter of a pixel each), in the middle of the picture; normal shading, depth test
+//   textured-50k  model-50k's knot and view with a 1024x1024 texture mapped from above, 3 to 4 texels
+//               a pixel (trilinear), drawn as `render --shading material` draws models: the
+//               material program (programs/material.cl), its texture times a headlight; depth test
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "clraster/clraster.hpp"
 #include "io/camera.hpp"
 #include "io/mesh.hpp"
+#include "io/model_loader.hpp"
 #include "io/shading.hpp"
 
 namespace clraster::bench {
@@ -29,6 +34,9 @@ struct Scene {
   io::Mesh mesh;
   io::Camera camera;
   io::BuiltinShading shading = io::BuiltinShading::Normal;
+  // A textured scene's material: the mesh, one part, is drawn with the material program as the
+  // command line draws models (cli/model_draws.hpp) instead of with `shading`.
+  std::optional<io::Material> material;
 
   // The one draw's state for a width x height picture.
   DrawState state(int width, int height) const;

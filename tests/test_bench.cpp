@@ -1,11 +1,13 @@
 // The benchmark behind `clraster bench`, without timing anything: its scenes have the triangles
-// they advertise, tiny-1m's are at most a pixel, the cameras frame the scenes as described, and
-// the report leaves scenes that failed out of the geometric mean. (tests/test_cli.cpp runs the
+// they advertise, tiny-1m's are at most a pixel, the cameras frame the scenes as described, the
+// textured scene draws as llvmpipe does, and the report leaves scenes that failed out of the
+// geometric mean. (tests/test_cli.cpp runs the
 // command itself.)
 #include "bench/report.hpp"
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
 #include "io/camera.hpp"
+#include "io/image_io.hpp"
 #include "support/mesh_inspection.hpp"
 #include "support/test_support.hpp"
 
@@ -41,7 +43,8 @@ double coverage(const Image& image) {
 }
 
 TEST(BenchScenes, NamesInTheirOrder) {
-  EXPECT_EQ(scene_names(), (std::vector<std::string>{"model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m"}));
+  EXPECT_EQ(scene_names(), (std::vector<std::string>{"model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
+                                                     "textured-50k"}));
   EXPECT_EQ(parse_scene_list(""), scene_names());
   EXPECT_EQ(parse_scene_list("tiny-1m,model-50k"), (std::vector<std::string>{"tiny-1m", "model-50k"}));
   for (const char* list : {"teapot", "model-50k,teapot", "model-50k,", "Model-50k"}) {
@@ -49,8 +52,8 @@ TEST(BenchScenes, NamesInTheirOrder) {
       parse_scene_list(list);
       ADD_FAILURE() << list << ": no error";
     } catch (const InvalidArgument& error) {
-      EXPECT_PRED_FORMAT2(::testing::IsSubstring, "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m)",
-                          error.what());
+      EXPECT_PRED_FORMAT2(::testing::IsSubstring,
+                          "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m, textured-50k)", error.what());
     }
   }
   EXPECT_THROW(make_scene("teapot"), InvalidArgument);
@@ -80,7 +83,8 @@ INSTANTIATE_TEST_SUITE_P(
                       AdvertisedCount{"terrain-1m", 2 * 708 * 708, 1'000'000, 1'100'000},
                       AdvertisedCount{"terrain-4m", 2 * 1415 * 1415, 4'000'000, 4'100'000},
                       AdvertisedCount{"fill-16", 16 * 2, 32, 32},
-                      AdvertisedCount{"tiny-1m", 2 * 1024 * 512, 1'000'000, 1'100'000}),
+                      AdvertisedCount{"tiny-1m", 2 * 1024 * 512, 1'000'000, 1'100'000},
+                      AdvertisedCount{"textured-50k", 2 * 500 * 50, 45'000, 55'000}),
     [](const auto& info) {
       std::string name = info.param.name;
       std::replace(name.begin(), name.end(), '-', '_');
@@ -147,6 +151,33 @@ TEST(BenchScenes, TerrainFillsThePicture) {
   const io::BoundingSphere fine_bounds = io::bounding_sphere(fine.mesh);
   const io::BoundingSphere coarse_bounds = io::bounding_sphere(coarse.mesh);
   EXPECT_NEAR(fine_bounds.radius, coarse_bounds.radius, 0.01f);
+}
+
+// The textured scene is model-50k's knot and view with texture coordinates and a material, drawn as
+// `render --shading material` draws models, and llvmpipe draws the same textured picture (the
+// runner's own comparison, at a smaller size: the same view, the texture further minified; a
+// picture that left the texture out would differ from llvmpipe's in most pixels).
+TEST(BenchScenes, TexturedKnotIsDrawnAsLlvmpipeDrawsIt) {
+  const Scene& textured = scene("textured-50k");
+  const Scene& plain = scene("model-50k");
+  EXPECT_EQ(textured.mesh.positions, plain.mesh.positions);
+  EXPECT_EQ(textured.mesh.indices, plain.mesh.indices);
+  EXPECT_EQ(textured.mesh.texcoords.size(), 2 * textured.mesh.vertex_count());
+  EXPECT_EQ(textured.camera.eye, plain.camera.eye);
+  EXPECT_FALSE(plain.material.has_value());
+  ASSERT_TRUE(textured.material.has_value() && textured.material->base_color_texture.has_value());
+  const Image texture = io::decode_image(textured.material->base_color_texture->encoded, "the texture");
+  EXPECT_EQ(texture.width, 1024);
+  EXPECT_EQ(texture.height, 1024);
+
+  RunOptions options;
+  options.width = kSmallWidth;
+  options.height = kSmallHeight;
+  options.frames = 1;
+  const SceneRun run = run_scene(textured, options);
+  EXPECT_TRUE(run.result.passed) << "coverage mismatch " << run.result.comparison.coverage_mismatch
+                                 << ", colour mismatch " << run.result.comparison.colour_mismatch;
+  EXPECT_EQ(test::covered_pixel_count(run.clraster_picture), test::covered_pixel_count(draw_small(plain)));
 }
 
 TEST(BenchScenes, FillDrawsSixteenFragmentsOnEveryPixel) {

@@ -76,13 +76,18 @@ Image decode_image(std::span<const std::byte> encoded, const std::string& name) 
   return decoded.image();
 }
 
-void save_png(const std::string& path, const Image& image) {
+// Throws InvalidArgument, for writing `what`, when the image's size and pixel data disagree.
+void require_consistent(const Image& image, const std::string& what) {
   if (image.width <= 0 || image.height <= 0 ||
       image.rgba.size() != std::size_t(image.width) * image.height * 4) {
-    throw InvalidArgument("cannot write " + path + ": image of " + std::to_string(image.width) + "x" +
+    throw InvalidArgument("cannot write " + what + ": image of " + std::to_string(image.width) + "x" +
                           std::to_string(image.height) + " pixels has " + std::to_string(image.rgba.size()) +
                           " bytes of RGBA data");
   }
+}
+
+void save_png(const std::string& path, const Image& image) {
+  require_consistent(image, path);
   File file = open_or_throw(path, "wb", "write");
   PngSink sink{file.get()};
   const int encoded = stbi_write_png_to_func(&PngSink::write, &sink, image.width, image.height, 4,
@@ -90,6 +95,20 @@ void save_png(const std::string& path, const Image& image) {
   if (std::fflush(file.get()) != 0 && sink.error == 0) sink.error = errno;
   if (sink.error != 0) throw Error("cannot write " + path + ": " + std::strerror(sink.error));
   if (!encoded) throw Error("cannot write " + path + ": PNG encoding failed");
+}
+
+std::vector<std::byte> encode_png(const Image& image) {
+  require_consistent(image, "a PNG");
+  std::vector<std::byte> encoded;
+  const auto append = [](void* context, void* data, int size) {
+    auto& bytes = *static_cast<std::vector<std::byte>*>(context);
+    const auto* first = static_cast<const std::byte*>(data);
+    bytes.insert(bytes.end(), first, first + size);
+  };
+  if (!stbi_write_png_to_func(append, &encoded, image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
+    throw Error("PNG encoding failed");
+  }
+  return encoded;
 }
 
 }  // namespace clraster::io

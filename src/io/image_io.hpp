@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "clraster/clraster.hpp"
 
@@ -21,5 +22,9 @@ clraster::Image decode_image(std::span<const std::byte> encoded, const std::stri
 // image's size and pixel data disagree, and clraster::Error naming the path and the system's
 // reason when the file cannot be written.
 void save_png(const std::string& path, const clraster::Image& image);
+
+// The same PNG file's bytes, in memory (as a model file embeds an image). Throws InvalidArgument for
+// an inconsistent image.
+std::vector<std::byte> encode_png(const clraster::Image& image);
 
 }  // namespace clraster::io

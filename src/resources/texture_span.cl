@@ -49,9 +49,12 @@ static inline clr_span_int clr_span_floor_to_int(clr_span_float u) {
 static inline void clr_span_load_texels(clr_texture t, clr_span_uint index, clr_span_float4* texel) {
   const int format = t.desc->format;
 #ifdef __ENDIAN_LITTLE__
+  /* Gathers with int indices, which x86 gathers take as they are, where uint ones are widened to 64
+   * bits and gathered four at a time (CesiumMilkTruck's textured frame 19.5 -> 17.4 ms). */
   if (format == CLR_FORMAT_RGBA8 || format == CLR_FORMAT_SRGB8_A8) { /* byte c of the word is channel c */
-    const clr_span_uint bits = CLR_SPAN_GATHER((__global const uint*)t.data, index);
-    const clr_span_uint r = bits & 0xffu, g = bits >> 8 & 0xffu, b = bits >> 16 & 0xffu;
+    const clr_span_uint bits = CLR_SPAN_GATHER((__global const uint*)t.data, CLR_SPAN_AS(int, index));
+    const clr_span_int r = CLR_SPAN_AS(int, bits & 0xffu), g = CLR_SPAN_AS(int, bits >> 8 & 0xffu),
+                       b = CLR_SPAN_AS(int, bits >> 16 & 0xffu);
     if (format == CLR_FORMAT_SRGB8_A8) {
       texel->x = CLR_SPAN_GATHER(clr_srgb_to_linear_table, r);
       texel->y = CLR_SPAN_GATHER(clr_srgb_to_linear_table, g);
