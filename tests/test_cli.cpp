@@ -141,7 +141,8 @@ TEST(CliInterface, BenchHelpNamesEveryOptionAndScene) {
   const CliResult result = run_cli({"bench", "--help"});
   EXPECT_TRUE(succeeded(result));
   for (const char* option : {"--scenes", "--size", "--frames", "--json", "--device", "--memory-cap", "--tile-size",
-                             "--pictures", "model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m"}) {
+                             "--pictures", "model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
+                             "textured-50k"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
