@@ -71,10 +71,10 @@ static inline float4 clr_quad_difference(__local float4* quad, uint lane, float4
   return quad[bottom + CLR_TILE_SIZE] - quad[bottom];
 }
 
-/* A span program's derivatives: in quad spans (fragment_ops.cl: lanes 0-3 the lower row of two quads,
- * 4-7 the upper one) the same differences between the lanes of the span, without barriers; in spans
- * of one pixel through the exchange. Four values at once, the components of a span vector. (Spans of
- * eight are quad spans wherever the program takes derivatives.) */
+/* A span program's derivatives: in quad spans (fragment_ops.cl: lanes 0, 1, 4, 5 one quad, 2, 3, 6, 7
+ * another, lanes 0-3 their lower rows) the same differences between the lanes of the span, without
+ * barriers; in spans of one pixel through the exchange. Four values at once, the components of a
+ * span vector. (Spans of eight are quad spans wherever the program takes derivatives.) */
 #if CLR_SPAN_PIXELS > 1
 /* For each lane, the lanes whose difference is its derivative along `axis`, `coarse` or fine. */
 static inline uint8 clr_quad_span_minuend(int axis, bool coarse) {

@@ -64,15 +64,17 @@
 #else
 #error "CLR_CPU_SPAN_PIXELS must be 8"
 #endif
-/* Quad spans: a span program that takes derivatives, in spans of eight, shades two 2x2 quads side by
- * side, a block of 4x2 pixels: lanes 0-3 the lower row (even window y) from an x that is a multiple
- * of 4, lanes 4-7 the row above. Its derivatives are differences between lanes (prelude.cl), and the
- * block's uncovered pixels are its helpers. A per-fragment program shades its quads one pixel to a
+/* Quad spans: a span program that takes derivatives, in spans of eight, shades two 2x2 quads (aligned
+ * to even window coordinates) at once, anywhere in the tile: lanes 0, 1 the first quad's lower row
+ * and 4, 5 its upper one, lanes 2, 3 and 6, 7 the second quad's, so that lanes 0-3 are lower rows
+ * and 4-7 the rows above them. Its derivatives are differences between lanes (prelude.cl), and the
+ * quads' uncovered pixels are their helpers. A per-fragment program shades its quads one pixel to a
  * work-item instead, exchanging values through local memory at barriers (raster.cl), and so does a
  * span program in spans of one pixel (GPU shapes). */
 #define CLR_QUAD_SPANS (CLR_QUAD_SHADING && CLR_SPAN_PIXELS > 1)
 #if CLR_SPAN_PIXELS == 8
-#define CLR_QUAD_SPAN_X (int8)(0, 1, 2, 3, 0, 1, 2, 3) /* each lane's pixel from the block's first */
+#define CLR_QUAD_SPAN_SECOND (int8)(0, 0, -1, -1, 0, 0, -1, -1) /* the lanes of the second quad */
+#define CLR_QUAD_SPAN_X (int8)(0, 1, 0, 1, 0, 1, 0, 1)          /* each lane's pixel from its quad's first */
 #define CLR_QUAD_SPAN_Y (int8)(0, 0, 0, 0, 1, 1, 1, 1)
 #endif
 #define CLR_SPAN_PASTE(a, b) a##b

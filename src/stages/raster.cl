@@ -632,6 +632,26 @@ CLR_INLINE void process_packed_span(const __local SetupTriangle* t, int2 origin,
 }
 #endif
 
+#if CLR_QUAD_SPANS
+/* The fragments of triangle t in the quads whose first pixels are the tile's pixels `first` and
+ * `second`, where `covered` (lane bits; fragment_ops.cl: lanes 0, 1, 4, 5 the first quad's, 2, 3,
+ * 6, 7 the second's), as a packed span of per-lane places. */
+CLR_INLINE void process_quad_span(const __local SetupTriangle* t, int2 origin, uint first, uint second, uint covered,
+                                  clr_fragment* f, __local uint* tile_color, __local float* tile_depth,
+                                  __local uchar* tile_stencil, __constant const DrawUniforms* u) {
+  const clr_span_uint corners = select((clr_span_uint)(first), (clr_span_uint)(second), CLR_QUAD_SPAN_SECOND);
+  clr_span_place place;
+  place.x = 0;
+  place.y = 0;
+  place.first = 0;
+  place.pixels = corners + CLR_SPAN_AS(uint, CLR_QUAD_SPAN_X + CLR_QUAD_SPAN_Y * CLR_TILE_SIZE);
+  place.xs = origin.x + CLR_SPAN_AS(int, place.pixels % CLR_TILE_SIZE);
+  place.ys = origin.y + CLR_SPAN_AS(int, place.pixels / CLR_TILE_SIZE);
+  place.packed = true;
+  process_span(t, &place, clr_span_lanes_from_bits(covered), f, tile_color, tile_depth, tile_stencil, u);
+}
+#endif
+
 __kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1)))
 void raster_tiles(__global const SetupTriangle* records, __global const SetupTriangle* overflow,
                   __global const uint* sorted_triangles, __global const uint* tile_ranges, uint tiles_x,
@@ -747,26 +767,36 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     for (uint i = item; i < n; i += CLR_RASTER_GROUP) coverage_mask(&batch[i], origin, masks[i], &coverage[i]);
     barrier(CLK_LOCAL_MEM_FENCE);
 #if CLR_QUAD_SPANS
-    /* Blocks of two quads (fragment_ops.cl), the blocks that have a pixel of the triangle: a block's
-     * pixels are in one word of a mask, which holds whole rows, an even number of them. */
+    /* The quads that have a pixel of the triangle, two to a span (fragment_ops.cl), in mask order
+     * wherever they are in the tile, as packed spans take pixels: a thin triangle crosses many
+     * blocks of 4x2 pixels in one quad of the two. A quad's pixels are in one word of a mask, which
+     * holds whole rows, an even number of them. */
     for (uint i = 0; i < n; ++i) {
+      uint first_quad = 0; /* the span's first quad's first pixel, while it waits for a second */
+      uint covered = 0;    /* the span's covered lanes */
+      bool waiting = false;
       for (int w = coverage[i].first_word; w < coverage[i].end_word; ++w) {
         for (ulong left = masks[i][w]; left != 0;) {
           const uint bit = (63 - clz(left & (0 - left))) & 63;
-          const uint corner = (bit / CLR_TILE_SIZE & ~1u) * CLR_TILE_SIZE + (bit % CLR_TILE_SIZE & ~3u);
-          left &= ~((0xful | 0xful << CLR_TILE_SIZE) << corner);
-          const uint covered = (uint)(masks[i][w] >> corner) & 0xfu | ((uint)(masks[i][w] >> (corner + CLR_TILE_SIZE)) & 0xfu) << 4;
-          const uint first_pixel = (uint)w * 64 + corner;
-          clr_span_place place;
-          place.x = 0;
-          place.y = 0;
-          place.first = 0;
-          place.xs = origin.x + (int)(first_pixel % CLR_TILE_SIZE) + CLR_QUAD_SPAN_X;
-          place.ys = origin.y + (int)(first_pixel / CLR_TILE_SIZE) + CLR_QUAD_SPAN_Y;
-          place.pixels = first_pixel + CLR_SPAN_AS(uint, CLR_QUAD_SPAN_X + CLR_QUAD_SPAN_Y * CLR_TILE_SIZE);
-          place.packed = true;
-          process_span(&batch[i], &place, clr_span_lanes_from_bits(covered), &f, tile_color, tile_depth, tile_stencil, u);
+          const uint corner = (bit / CLR_TILE_SIZE & ~1u) * CLR_TILE_SIZE + (bit % CLR_TILE_SIZE & ~1u);
+          left &= ~((3ul | 3ul << CLR_TILE_SIZE) << corner);
+          /* The quad's pixels (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1) in bits 0-3. */
+          const uint quad = (uint)(masks[i][w] >> corner) & 3u | ((uint)(masks[i][w] >> (corner + CLR_TILE_SIZE)) & 3u) << 2;
+          const uint pixel = (uint)w * 64 + corner;
+          if (!waiting) {
+            first_quad = pixel;
+            covered = (quad & 3u) | (quad & 0xcu) << 2; /* lanes 0, 1, 4, 5 */
+            waiting = true;
+            continue;
+          }
+          covered |= (quad & 3u) << 2 | (quad & 0xcu) << 4; /* lanes 2, 3, 6, 7 */
+          process_quad_span(&batch[i], origin, first_quad, pixel, covered, &f, tile_color, tile_depth, tile_stencil, u);
+          waiting = false;
         }
+      }
+      /* A last quad alone: its lanes again in the second quad's, which cover nothing. */
+      if (waiting) {
+        process_quad_span(&batch[i], origin, first_quad, first_quad, covered, &f, tile_color, tile_depth, tile_stencil, u);
       }
     }
 #elif CLR_QUAD_EXCHANGE && CLR_RASTER_GROUP == CLR_QUAD_PIXELS
