@@ -192,21 +192,35 @@ std::vector<std::vector<std::byte>> render_inputs(Context& context, const Progra
   return {shade.read(), coordinates.read(), weights.read(), ids.read()};
 }
 
-TEST(SpanPrograms, WriteTheBitsOfTheirPerFragmentTwinInEveryShape) {
-  const io::Mesh mesh = io::make_random_triangles(600, 11, {-1, -1, -1}, {1, 1, 1}, 0.6f);
+using Attachments = std::vector<std::vector<std::byte>>;
+
+// In each work-group shape, a per-fragment program (`source(false)`) and its span twin
+// (`source(true)`) draw `mesh` into 61x47 attachments with `render`: every attachment must hold the
+// same bytes, and `drawn` must find most pixels written in the per-fragment program's.
+void expect_span_twin_writes_the_same_bits(std::string (*source)(bool),
+                                           Attachments (*render)(Context&, const Program&, const io::Mesh&),
+                                           std::size_t (*drawn)(const Attachments&), const io::Mesh& mesh) {
   for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
-    const Program per_fragment(*context, inputs_program(false), "per_fragment.cl");
-    const Program per_span(*context, inputs_program(true), "per_span.cl");
+    const Program per_fragment(*context, source(false), "per_fragment.cl");
+    const Program per_span(*context, source(true), "per_span.cl");
     ASSERT_FALSE(per_fragment.interface().has_fragment_span);
     ASSERT_TRUE(per_span.interface().has_fragment_span);
-    const auto expected = render_inputs(*context, per_fragment, mesh);
-    const auto result = render_inputs(*context, per_span, mesh);
-    // Drawn: most pixels have a triangle (their ids' last word is 7, not the clear's 0).
-    std::size_t drawn = 0;
-    for (std::size_t i = 12; i < expected[3].size(); i += 16) drawn += expected[3][i] == std::byte{7};
-    EXPECT_GT(drawn, 61u * 47u / 2);
+    const Attachments expected = render(*context, per_fragment, mesh);
+    const Attachments result = render(*context, per_span, mesh);
+    EXPECT_GT(drawn(expected), 61u * 47u / 2);
     for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(expected[k] == result[k]) << "attachment " << k;
   }
+}
+
+TEST(SpanPrograms, WriteTheBitsOfTheirPerFragmentTwinInEveryShape) {
+  // Drawn: a pixel with a triangle has 7 in its ids' last word, not the clear's 0.
+  const auto drawn = [](const Attachments& attachments) {
+    std::size_t count = 0;
+    for (std::size_t i = 12; i < attachments[3].size(); i += 16) count += attachments[3][i] == std::byte{7};
+    return count;
+  };
+  expect_span_twin_writes_the_same_bits(inputs_program, render_inputs, drawn,
+                                        io::make_random_triangles(600, 11, {-1, -1, -1}, {1, 1, 1}, 0.6f));
 }
 
 // Derivatives and texture samples of a span program, against its per-fragment twin: in spans of
@@ -282,7 +296,7 @@ std::vector<std::byte> pattern_texels(int width, int height, int bytes_per_texel
   return texels;
 }
 
-std::vector<std::vector<std::byte>> render_quads(Context& context, const Program& program, const io::Mesh& mesh) {
+Attachments render_quads(Context& context, const Program& program, const io::Mesh& mesh) {
   const Buffer positions(context, mesh.positions);
   const IndexBuffer indices(context, mesh.indices);
   const Texture bytes(context, 64, 32, Format::RGBA8, pattern_texels(64, 32, 4));
@@ -314,30 +328,25 @@ std::vector<std::vector<std::byte>> render_quads(Context& context, const Program
   call.attributes = {{"position", &positions, AttributeType::Float3}};
   call.indices = &indices;
   target.draw(call);  // depth test LESS: some fragments hidden, their quads' helpers still shaded
-  std::vector<std::vector<std::byte>> result;
+  Attachments result;
   for (const Texture& output : outputs) result.push_back(output.read());
   return result;
 }
 
 TEST(SpanPrograms, TakeTheDerivativesAndSamplesOfTheirPerFragmentTwinInEveryShape) {
-  const io::Mesh mesh = io::make_random_triangles(700, 13, {-1, -1, -1}, {1, 1, 1}, 0.5f);
-  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
-    const Program per_fragment(*context, quad_program(false), "per_fragment.cl");
-    const Program per_span(*context, quad_program(true), "per_span.cl");
-    ASSERT_TRUE(per_span.interface().has_fragment_span);
-    ASSERT_TRUE(per_span.interface().uses_derivatives);
-    const auto expected = render_quads(*context, per_fragment, mesh);
-    const auto result = render_quads(*context, per_span, mesh);
-    // Drawn: most pixels were written (their RGBA8 sample's alpha is not the clear's 0).
-    std::size_t drawn = 0;
-    for (std::size_t i = 12; i < expected[2].size(); i += 16) {
+  ASSERT_TRUE(Program::read_interface(quad_program(true)).uses_derivatives);
+  // Drawn: a written pixel's RGBA8 sample has an alpha, not the clear's 0.
+  const auto drawn = [](const Attachments& attachments) {
+    std::size_t count = 0;
+    for (std::size_t i = 12; i < attachments[2].size(); i += 16) {
       float alpha = 0;
-      std::memcpy(&alpha, &expected[2][i], sizeof alpha);
-      drawn += alpha > 0;
+      std::memcpy(&alpha, &attachments[2][i], sizeof alpha);
+      count += alpha > 0;
     }
-    EXPECT_GT(drawn, 61u * 47u / 2);
-    for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(expected[k] == result[k]) << "attachment " << k;
-  }
+    return count;
+  };
+  expect_span_twin_writes_the_same_bits(quad_program, render_quads, drawn,
+                                        io::make_random_triangles(700, 13, {-1, -1, -1}, {1, 1, 1}, 0.5f));
 }
 
 // Slivers: triangles a pixel or so wide and 8 to 40 long at any angle, in a 61x47 framebuffer. Most
