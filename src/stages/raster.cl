@@ -26,13 +26,15 @@
  * attachment stores it (float bits for normalized and float formats, already quantized to the
  * format where the draw reads the tile back; int or uint for integer ones), except that an RGBA8
  * attachment the draw blends is held as its bytes (tile_holds_bytes). Programs that take
- * derivatives are shaded in 2x2 quads, one work-item per pixel of a quad, the quad's uncovered
- * pixels running the program as helpers whose results are thrown away (prelude.cl exchanges the
- * values at barriers). On GPUs a work-item per pixel of the tile: every one runs the program for
- * every triangle that covers any pixel of the tile. On CPUs four work-items, which walk the quads
- * each triangle covers together: PoCL runs a group's work-items one after another between barriers,
- * so the tile's 256 would each run the program for every triangle of the tile (a textured 1080p
- * frame of the demo scene took 2.7 s at 16x16 tiles against llvmpipe's 59 ms). */
+ * derivatives are shaded in 2x2 quads, the quad's uncovered pixels running the program as helpers
+ * whose results are thrown away. A span program in spans of eight takes a triangle's quads two to a
+ * span (quad spans, process_quad_span), its derivatives differences between lanes. Otherwise a
+ * work-item per pixel of a quad (prelude.cl exchanges the values at barriers): on GPUs a work-item
+ * per pixel of the tile, every one running the program for every triangle that covers any pixel of
+ * the tile; on CPUs four work-items, which walk the quads each triangle covers together: PoCL runs a
+ * group's work-items one after another between barriers, so the tile's 256 would each run the
+ * program for every triangle of the tile (a textured 1080p frame of the demo scene took 2.7 s at
+ * 16x16 tiles against llvmpipe's 59 ms). */
 
 #define CLR_TILE_PIXELS (CLR_TILE_SIZE * CLR_TILE_SIZE)
 #define CLR_TILE_TARGETS (CLR_NUM_OUTPUTS > 0 ? CLR_NUM_OUTPUTS : 1)
