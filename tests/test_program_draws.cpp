@@ -194,13 +194,15 @@ std::vector<std::vector<std::byte>> render_inputs(Context& context, const Progra
 
 using Attachments = std::vector<std::vector<std::byte>>;
 
-// In each work-group shape, a per-fragment program (`source(false)`) and its span twin
-// (`source(true)`) draw `mesh` into 61x47 attachments with `render`: every attachment must hold the
-// same bytes, and `drawn` must find most pixels written in the per-fragment program's.
+// In each work-group shape, and with the CPU shapes' smallest tiles too (a mask word of eight rows
+// instead of two), a per-fragment program (`source(false)`) and its span twin (`source(true)`) draw
+// `mesh` into 61x47 attachments with `render`: every attachment must hold the same bytes, and
+// `drawn` must find most pixels written in the per-fragment program's.
 void expect_span_twin_writes_the_same_bits(std::string (*source)(bool),
                                            Attachments (*render)(Context&, const Program&, const io::Mesh&),
                                            std::size_t (*drawn)(const Attachments&), const io::Mesh& mesh) {
-  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide)}) {
+  static Context small_tiles(ContextOptions{.tile_size = 8});
+  for (Context* context : {&shared_context(), &shared_context(WorkGroupShape::Wide), &small_tiles}) {
     const Program per_fragment(*context, source(false), "per_fragment.cl");
     const Program per_span(*context, source(true), "per_span.cl");
     ASSERT_FALSE(per_fragment.interface().has_fragment_span);
