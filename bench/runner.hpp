@@ -6,7 +6,8 @@
 // before, finish (Context::finish, glFinish), timed with steady_clock around the three. Both draw
 // into an RGBA8 colour and a Depth32F depth attachment (no stencil to clear). Nothing is read back
 // inside a frame, and every clraster frame runs every pipeline stage: of an earlier frame the
-// library keeps only what the draw validated, the largest index of the index buffer's range.
+// library keeps only what it read of the index buffer, the largest index of the range and the index
+// ranges of its blocks of primitives (block culling), which cannot change.
 // The process keeps the memory it frees (glibc's trim threshold raised), so that neither renderer
 // pays for paging in again, each frame, memory it freed in the previous one (runner.cpp).
 #pragma once

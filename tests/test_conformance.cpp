@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <map>
 #include <ostream>
 #include <string>
@@ -644,6 +645,65 @@ TEST(Conformance, ScreenCoveringTriangleDrawsEveryPixelOnce) {
   mesh.indices = {0, 1, 2};
   const Image result = expect_matches_gl({{&mesh, overdraw_counter()}}, kWidth, kHeight, kExact);
   for (std::size_t i = 0; i < result.rgba.size(); i += 4) ASSERT_EQ(result.rgba[i], 1) << "pixel " << i / 4;
+}
+
+// ---- Block culling: blocks of primitives outside the view rejected whole (clr_limits.h) -----------
+
+// A fine grid of 250 x 250 cells seen at an angle from close above, far larger than the view: whole
+// blocks of its primitives lie beyond each side of the viewport and behind the near plane, and the
+// blocks along the view's edges have cells on both sides. Drawn as GL draws it, with 32- and 16-bit
+// indices (its 63,001 vertices fit 16 bits).
+TEST(Conformance, GridMostlyOutsideTheViewMatchesGl) {
+  io::Mesh grid = io::make_plane(250, 250, 40, 40);
+  io::transform(grid, glm::rotate(glm::mat4(1), -glm::half_pi<float>(), glm::vec3(1, 0, 0)));
+  io::Camera camera;
+  camera.eye = {1.5f, 1.2f, 3};
+  camera.target = {-1, 0, -2};
+  camera.near_plane = 0.5f;
+  camera.far_plane = 8;
+  for (IndexFormat format : {IndexFormat::Uint32, IndexFormat::Uint16}) {
+    SceneDraw draw{&grid, view_state(camera, kWidth, kHeight, Shading::Depth)};
+    draw.index_format = format;
+    expect_matches_gl({draw}, kWidth, kHeight, kNormalShading);
+  }
+}
+
+// Triangles with a NaN or an infinite vertex are dropped and counted, also where every other vertex
+// around them is outside the view, so that their block would otherwise be culled whole: the count
+// is the same as where the grid is in view. The program moves the grid without a matrix, so that
+// the infinite x stays an infinite x (a matrix multiplies it by zeros into NaNs), outside the same
+// side of the view as the rest of its block.
+TEST(Conformance, NonFiniteVerticesAreCountedWhereTheirBlockIsOutsideTheView) {
+  const Program moved(shared_context(), R"(
+clr_attribute(float3, position)
+clr_uniform(float, offset)
+clr_output(float4, color)
+void vertex(clr_vertex* v) { v->position = (float4)(v->in.position.x + v->uniforms->offset, v->in.position.yz, 1.0f); }
+void fragment(clr_fragment* f) { f->out.color = (float4)(1.0f, 0.5f, 0.25f, 1.0f); }
+)", "moved.cl");
+  io::Mesh grid = io::make_plane(64, 64, 2, 2);  // 4,225 vertices, 8,192 triangles: 128 blocks
+  // Two vertices far apart in the grid's vertex order, not sharing a triangle, each in 6 triangles.
+  const std::uint32_t nan_vertex = 20 * 65 + 20, infinite_vertex = 45 * 65 + 40;
+  grid.positions[3 * nan_vertex + 1] = std::numeric_limits<float>::quiet_NaN();
+  grid.positions[3 * infinite_vertex] = -std::numeric_limits<float>::infinity();
+  const Buffer positions(shared_context(), grid.positions);
+  const IndexBuffer indices(shared_context(), grid.indices);
+  for (const float offset : {0.0f, -10.0f}) {  // in view, then all of it 10 to the left of the view
+    Bindings bindings(moved);
+    bindings.set("offset", offset);
+    DrawCall call;
+    call.program = &moved;
+    call.bindings = &bindings;
+    call.attributes = {{"position", &positions, AttributeType::Float3}};
+    call.indices = &indices;
+    Framebuffer target(shared_context(), 64, 48);
+    target.clear({0, 0, 0, 1}, 1.0f);
+    const DrawStats stats = target.draw(call);
+    EXPECT_EQ(stats.triangles_dropped, 12u) << "grid moved by " << offset;
+    const std::uint64_t covered = covered_pixel_count(target.read_color());
+    if (offset != 0.0f) EXPECT_EQ(covered, 0u);
+    else EXPECT_GT(covered, 64u * 48u / 2);
+  }
 }
 
 // ---- Several draws per frame ----------------------------------------------------------------------

@@ -123,6 +123,59 @@ TEST_F(KernelTest, FansShareTheFirstVertex) {
   EXPECT_EQ(read<cl_uint>(out, 9), (std::vector<cl_uint>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
 }
 
+// ---- Block culling's index ranges --------------------------------------------------------------------
+
+// The elements (positions from the draw's first) of primitive p: OpenGL's order, as above.
+std::array<std::uint32_t, 3> primitive_elements(int topology, std::uint32_t p) {
+  if (topology == CLR_TOPOLOGY_LIST) return {3 * p, 3 * p + 1, 3 * p + 2};
+  if (topology == CLR_TOPOLOGY_STRIP) return {p, p + 1, p + 2};
+  return {0, p + 1, p + 2};
+}
+
+// Each block's two ranges (block_index_ranges, for block culling) are its smallest and largest
+// index split at their midpoint, each side shrunk to the indices it has: for lists, strips and fans,
+// 16- and 32-bit indices, from an element past the buffer's first, on indices in two clusters as a
+// grid's rows are, with outliers (a fan's centre among them).
+TEST_F(KernelTest, BlockIndexRangesAreTheTwoHalvesOfTheirBlocksIndices) {
+  std::mt19937 random(17);
+  std::vector<std::uint32_t> indices(1003);
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    indices[i] = static_cast<std::uint32_t>(i % 2 ? 40000 + random() % 300 : 100 + random() % 300);
+    if (random() % 50 == 0) indices[i] = static_cast<std::uint32_t>(random() % 60000);
+  }
+  const std::uint32_t first = 3;
+  cl::Kernel kernel(state().core_program(), "block_index_ranges");
+  for (int topology : {CLR_TOPOLOGY_LIST, CLR_TOPOLOGY_STRIP, CLR_TOPOLOGY_FAN}) {
+    for (int index_size : {2, 4}) {
+      const std::uint32_t elements = static_cast<std::uint32_t>(indices.size()) - first;
+      const std::uint32_t primitives = topology == CLR_TOPOLOGY_LIST ? elements / 3 : elements - 2;
+      const std::uint32_t blocks = (primitives + CLR_CULL_BLOCK_PRIMITIVES - 1) / CLR_CULL_BLOCK_PRIMITIVES;
+      cl::Buffer index_buffer = index_size == 4 ? buffer(indices)
+                                                : buffer(std::vector<cl_ushort>(indices.begin(), indices.end()));
+      cl::Buffer ranges = buffer(std::vector<cl_uint4>(blocks));
+      cl_host::set_args(kernel, index_buffer, cl_int{index_size}, first, primitives, cl_int{topology}, ranges);
+      state().queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(blocks), cl::NullRange);
+      const std::vector<cl_uint4> result = read<cl_uint4>(ranges, blocks);
+      for (std::uint32_t b = 0; b < blocks; ++b) {
+        std::vector<std::uint32_t> used;
+        for (std::uint32_t p = b * CLR_CULL_BLOCK_PRIMITIVES; p < std::min(primitives, (b + 1) * CLR_CULL_BLOCK_PRIMITIVES); ++p) {
+          for (std::uint32_t e : primitive_elements(topology, p)) used.push_back(indices[first + e]);
+        }
+        const auto [lowest, highest] = std::minmax_element(used.begin(), used.end());
+        const std::uint32_t middle = *lowest + (*highest - *lowest) / 2;
+        std::uint32_t lower_last = *lowest, upper_first = *highest;
+        for (std::uint32_t index : used) {
+          if (index <= middle) lower_last = std::max(lower_last, index);
+          else upper_first = std::min(upper_first, index);
+        }
+        EXPECT_EQ((std::array<cl_uint, 4>{result[b].s[0], result[b].s[1], result[b].s[2], result[b].s[3]}),
+                  (std::array<cl_uint, 4>{*lowest, lower_last, upper_first, *highest}))
+            << "topology " << topology << ", " << index_size << "-byte indices, block " << b;
+      }
+    }
+  }
+}
+
 // ---- Clipping ---------------------------------------------------------------------------------------
 
 struct ClipResult {

@@ -22,6 +22,11 @@ resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::u
   at(b, Scratch::ShadedVertices) =
       (shade_all ? in.vertex_count : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count) *
       in.shaded_vertex_bytes;
+  if (shade_all) {  // block culling (clr_limits.h)
+    at(b, Scratch::GroupCodes) = code_groups(in.vertex_count) * sizeof(cl_uint);
+    // A byte per block, and 4 bytes at least, as the arena allocates.
+    at(b, Scratch::CulledBlocks) = std::max<std::uint64_t>(chunk_blocks(static_cast<std::uint32_t>(chunk)), 4);
+  }
   at(b, Scratch::Records) = chunk * in.setup_triangle_bytes;
   at(b, Scratch::BinBoxes) = chunk * sizeof(cl_uint2);
   at(b, Scratch::OverflowRecords) = overflow * in.setup_triangle_bytes;

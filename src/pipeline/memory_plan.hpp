@@ -2,6 +2,7 @@
 // many primitives each chunk takes and how many bin pairs each raster batch takes.
 #pragma once
 
+#include "clr_limits.h"
 #include "resources/scratch.hpp"
 #include "stages/types.h"
 
@@ -30,6 +31,13 @@ struct MemoryPlan {
   std::uint64_t pair_capacity = 0;     // bin pairs per raster batch
   resources::ScratchSizes buffer_bytes{};
 };
+
+// Block culling (clr_limits.h): the groups of vertex slots whose clip codes are ANDed, and the most
+// blocks of primitives a chunk of `primitives` overlaps, wherever it starts.
+inline std::uint64_t code_groups(std::uint64_t vertices) {
+  return (vertices + CLR_CODE_GROUP_SLOTS - 1) / CLR_CODE_GROUP_SLOTS;
+}
+inline std::uint32_t chunk_blocks(std::uint32_t primitives) { return primitives / CLR_CULL_BLOCK_PRIMITIVES + 2; }
 
 // The plan with the largest chunks that fit. Throws InvalidArgument when the cap cannot hold even
 // one primitive together with the bin pairs of one screen-covering triangle.

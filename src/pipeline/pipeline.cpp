@@ -68,6 +68,7 @@ Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::
       counters_(context, CL_MEM_READ_WRITE, CLR_COUNTER_COUNT * sizeof(cl_uint)),
       scratch_(context),
       index_max_(core, "index_max"),
+      block_index_ranges_(core, "block_index_ranges"),
       scan_(core),
       sort_(core, scan_) {}
 
@@ -87,8 +88,30 @@ std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t fi
   cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint));
   cl_host::set_args(index_max_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
   cl_host::enqueue_blocks(queue_, index_max_, count, CLR_SCAN_BLOCK, cl_host::compiled_group_size(index_max_));
-  cache = {true, first, count, read_uint(queue_, counters_, CLR_COUNTER_MAX_INDEX)};
+  cache.valid = true;
+  cache.first = first;
+  cache.count = count;
+  cache.largest = read_uint(queue_, counters_, CLR_COUNTER_MAX_INDEX);
   return cache.largest;
+}
+
+const cl::Buffer& Pipeline::block_index_ranges(const DrawSource& source, std::uint32_t first, std::uint32_t count,
+                                               int topology, std::uint32_t primitives) {
+  IndexRangeCache& cache = *source.index_cache;
+  if (cache.blocks_valid && cache.blocks_first == first && cache.blocks_count == count &&
+      cache.blocks_topology == topology) {
+    return cache.block_ranges;
+  }
+  const std::uint32_t blocks = (primitives + CLR_CULL_BLOCK_PRIMITIVES - 1) / CLR_CULL_BLOCK_PRIMITIVES;
+  cache.block_ranges = cl::Buffer(context_, CL_MEM_READ_WRITE, std::size_t{blocks} * sizeof(cl_uint4));
+  cl_host::set_args(block_index_ranges_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{primitives},
+                    cl_int{topology}, cache.block_ranges);
+  cl_host::enqueue_items(queue_, block_index_ranges_, blocks, CLR_ITEM_GROUP_SIZE);
+  cache.blocks_valid = true;
+  cache.blocks_first = first;
+  cache.blocks_count = count;
+  cache.blocks_topology = topology;
+  return cache.block_ranges;
 }
 
 std::uint32_t Pipeline::read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count,
@@ -192,13 +215,22 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   buffers.attributes = source.attribute_buffers;
   frame.buffers = &buffers;
 
+  // Block culling (clr_limits.h), where every vertex is shaded once per draw (indexed draws only).
+  if (frame.plan.shade_all_vertices) {
+    frame.block_ranges = block_index_ranges(source, first, used_elements, topology, primitives);
+    frame.group_codes = scratch_.get(Scratch::GroupCodes, code_groups(vertex_count) * sizeof(cl_uint));
+  }
+
   // Instances are drawn one after the other, in order, as OpenGL orders their primitives.
   for (std::uint32_t instance = 0; instance < source.instance_count; ++instance) {
     uniforms.instance = instance;
     queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
     if (frame.plan.shade_all_vertices) {
+      queue_.set_stage(cl_host::Stage::Vertex);
+      cl_host::fill(queue_, frame.group_codes, ~cl_uint{0}, 0, code_groups(vertex_count) * sizeof(cl_uint));
       source.stages->vertex.run(queue_, {&buffers, true, 0, 0, static_cast<std::uint32_t>(vertex_count),
-                                         scratch_.get(Scratch::ShadedVertices, vertex_count * frame.shaded_vertex_bytes)});
+                                         scratch_.get(Scratch::ShadedVertices, vertex_count * frame.shaded_vertex_bytes),
+                                         frame.group_codes});
     }
     for (std::uint32_t begin = 0; begin < primitives;) {
       begin += run_chunk(frame, begin, std::min(frame.plan.chunk_primitives, primitives - begin), stats);
@@ -220,7 +252,8 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   } else {
     const StreamRange range = stream_range(frame.topology, begin, count);
     shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * frame.shaded_vertex_bytes);
-    frame.source->stages->vertex.run(queue_, {frame.buffers, false, range.begin, range.count, range.slot_count, shaded});
+    frame.source->stages->vertex.run(queue_,
+                                     {frame.buffers, false, range.begin, range.count, range.slot_count, shaded, placeholder_});
     slots = {0, range.begin, range.count};
   }
 
@@ -234,8 +267,15 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
   const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
   ProgramStages& stages = *frame.source->stages;
-  stages.setup.run(queue_,
-                   {frame.buffers, slots, shaded, begin, count, records, bin_boxes, pair_offsets, clipped_offsets});
+  cl::Buffer culled_blocks = placeholder_;
+  if (frame.plan.shade_all_vertices) {  // block culling
+    const std::uint32_t first_block = begin / CLR_CULL_BLOCK_PRIMITIVES;
+    const std::uint32_t block_count = (begin + count - 1) / CLR_CULL_BLOCK_PRIMITIVES - first_block + 1;
+    culled_blocks = scratch_.get(Scratch::CulledBlocks, block_count);
+    stages.setup.run_cull(queue_, {first_block, block_count, frame.block_ranges, frame.group_codes, culled_blocks});
+  }
+  stages.setup.run(queue_, {frame.buffers, slots, shaded, begin, count, frame.plan.shade_all_vertices, culled_blocks,
+                            records, bin_boxes, pair_offsets, clipped_offsets});
 
   // Where each primitive's bin pairs go, and, in the same read, whether any primitive was clipped.
   scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);

@@ -49,13 +49,20 @@ struct RenderTarget {
   resources::PendingClear* depth_clear = nullptr;     // of the depth (and stencil) attachment
 };
 
-// The largest index of the range an index buffer was last drawn with: index buffers cannot change
-// after upload, so repeated draws of the same range validate their indices once.
+// The largest index of the range an index buffer was last drawn with, and the index range of each
+// block of its primitives (block culling, clr_limits.h): index buffers cannot change after upload,
+// so repeated draws of the same range validate their indices, and find their blocks' ranges, once.
 struct IndexRangeCache {
   bool valid = false;
   std::uint32_t first = 0;
   std::uint32_t count = 0;
   std::uint32_t largest = 0;
+
+  bool blocks_valid = false;
+  std::uint32_t blocks_first = 0;
+  std::uint32_t blocks_count = 0;
+  int blocks_topology = 0;
+  cl::Buffer block_ranges;  // cl_uint4 per block: two ranges that hold its indices (block_index_ranges)
 };
 
 inline constexpr std::uint64_t kUnlimited = std::numeric_limits<std::uint64_t>::max();
@@ -103,10 +110,17 @@ class Pipeline {
     std::size_t shaded_vertex_bytes = 0;
     std::size_t setup_triangle_bytes = 0;
     std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
+    // Block culling (clr_limits.h), where every vertex is shaded once: each block's index ranges,
+    // and each group of vertex slots' clip codes.
+    cl::Buffer block_ranges;
+    cl::Buffer group_codes;
     std::uint32_t clipped_primitives = 0;  // CLR_COUNTER_CLIPPED as the last chunk left it
   };
 
   std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);
+  // The index range of each block of the draw's primitives, from the index buffer's cache.
+  const cl::Buffer& block_index_ranges(const DrawSource& source, std::uint32_t first, std::uint32_t count,
+                                       int topology, std::uint32_t primitives);
   // Runs primitives [begin, begin + count) through every stage; returns how many it took (fewer
   // when the chunk had to be shortened).
   std::uint32_t run_chunk(Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
@@ -141,6 +155,7 @@ class Pipeline {
   std::size_t uniform_block_bytes_ = 0, texture_descs_bytes_ = 0, attribute_descs_bytes_ = 0;
   resources::ScratchArena scratch_;
   cl::Kernel index_max_;
+  cl::Kernel block_index_ranges_;
   parallel::Scan scan_;
   parallel::RadixSort sort_;
 };

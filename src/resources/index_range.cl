@@ -1,5 +1,6 @@
 /* index_range.cl: the largest index in a range of an index buffer, so that a draw can be refused
- * before it renders anything when it references a vertex that does not exist. */
+ * before it renders anything when it references a vertex that does not exist; and the range of the
+ * indices of each block of primitives, for block culling (clr_limits.h). */
 
 static inline uint fetch_index(__global const uchar* indices, int index_size, uint position) {
   if (index_size == 2) return ((__global const ushort*)indices)[position];
@@ -23,4 +24,42 @@ void index_max(__global const uchar* indices, int index_size, uint first, uint c
     barrier(CLK_LOCAL_MEM_FENCE);
   }
   if (lid == 0) atomic_max(&counters[CLR_COUNTER_MAX_INDEX], scratch[0]);
+}
+
+/* Where the indices of each block of CLR_CULL_BLOCK_PRIMITIVES primitives of an indexed draw of
+ * `primitive_count` primitives from element `first` are, one work-item per block: two ranges, (x, y)
+ * and (z, w), that hold them all, the block's smallest to largest index split at their midpoint and
+ * each side shrunk to the indices it has. A block of a grid
+ * mesh's cells takes vertices from two rows, each a run of the grid's vertex order: two ranges find
+ * both, where one would hold the whole row between them. The elements of a list's primitives p are
+ * 3p to 3p + 2, of a strip's p to p + 2, and of a fan's 0 and p + 1 to p + 2 (stages/primitive.cl). */
+__kernel void block_index_ranges(__global const uchar* indices, int index_size, uint first, uint primitive_count,
+                                 int topology, __global uint4* ranges) {
+  const uint block = get_global_id(0);
+  const uint begin = block * CLR_CULL_BLOCK_PRIMITIVES;
+  if (begin >= primitive_count) return;
+  const uint end = min(begin + CLR_CULL_BLOCK_PRIMITIVES, primitive_count);
+  uint element_begin = begin, element_end = end + 2;
+  if (topology == CLR_TOPOLOGY_LIST) {
+    element_begin = 3 * begin;
+    element_end = 3 * end;
+  } else if (topology == CLR_TOPOLOGY_FAN) {
+    element_begin = begin + 1;
+  }
+  /* A fan's centre, element 0, in its place among the elements, so both passes see it. */
+  const bool fan = topology == CLR_TOPOLOGY_FAN;
+  uint2 range = (uint2)(0xffffffffu, 0u);
+  for (uint e = element_begin - fan; e < element_end; ++e) {
+    const uint index = fetch_index(indices, index_size, first + (fan && e == element_begin - 1 ? 0 : e));
+    range = (uint2)(min(range.x, index), max(range.y, index));
+  }
+  /* The largest index is above the midpoint unless all are equal, so the upper range has one. */
+  const uint middle = range.x + (range.y - range.x) / 2;
+  uint4 split = (uint4)(range.x, range.x, range.y, range.y); /* lower's first and last, upper's */
+  for (uint e = element_begin - fan; e < element_end; ++e) {
+    const uint index = fetch_index(indices, index_size, first + (fan && e == element_begin - 1 ? 0 : e));
+    if (index <= middle) split.y = max(split.y, index);
+    else split.z = min(split.z, index);
+  }
+  ranges[block] = split;
 }

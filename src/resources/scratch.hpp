@@ -11,6 +11,8 @@ namespace clraster::resources {
 
 enum class Scratch : int {
   ShadedVertices,   // vertex stage output
+  GroupCodes,       // when every vertex is shaded once: the clip codes each group of slots shares
+  CulledBlocks,     // and whether each block of the draw's primitives is culled whole (block culling)
   Records,          // per primitive of a chunk: its SetupTriangle, when it needs no clipping
   BinBoxes,         // and that triangle's pixel box, what binning reads of it
   OverflowRecords,  // the SetupTriangles of the chunk's clipped primitives

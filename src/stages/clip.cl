@@ -76,6 +76,15 @@ CLR_INLINE vertex_lanes_int clip_outcode_lanes(const PositionLanes* p, float2 gu
   return code;
 }
 
+/* The viewport sides each lane's position is outside, as CLR_VERTEX_OUTSIDE_VIEW bits (types.h). */
+CLR_INLINE vertex_lanes_int view_outcode_lanes(const PositionLanes* p) {
+  const int first = CLR_CLIP_PLANES + 2;
+  return select((vertex_lanes_int)(0), (vertex_lanes_int)(1 << first), p->x < -p->w) |
+         select((vertex_lanes_int)(0), (vertex_lanes_int)(1 << (first + 1)), p->x > p->w) |
+         select((vertex_lanes_int)(0), (vertex_lanes_int)(1 << (first + 2)), p->y < -p->w) |
+         select((vertex_lanes_int)(0), (vertex_lanes_int)(1 << (first + 3)), p->y > p->w);
+}
+
 /* The point where segment inside -> outside crosses the plane. Always interpolated from the inside
  * end, so the two triangles that share an edge compute bit-identical points on it. */
 static inline ClipVertex clip_intersect(const ClipVertex* inside, const ClipVertex* outside, float d_inside,

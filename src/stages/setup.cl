@@ -85,22 +85,53 @@ CLR_INLINE void write_setup_triangle(const WindowVertex* v0, const WindowVertex*
   *out = t;
 }
 
+/* Block culling (clr_limits.h): block first_block + j of the draw's primitives is outside a clip
+ * plane or viewport side where every group of vertex slots in its index ranges is (the vertex
+ * stage's group_codes, the ranges from block_index_ranges), and culled[j] is then 1, else 0. One
+ * work-item per block of a chunk. */
+__kernel void cull_blocks(uint first_block, uint block_count, __global const uint4* index_ranges,
+                          __global const uint* group_codes, __global uchar* culled) {
+  const uint j = get_global_id(0);
+  if (j >= block_count) return;
+  const uint4 ranges = index_ranges[first_block + j]; /* two, (x, y) and (z, w) */
+  uint outside = CLR_VERTEX_OUTSIDE;
+  for (uint group = ranges.x / CLR_CODE_GROUP_SLOTS; group <= ranges.y / CLR_CODE_GROUP_SLOTS && outside != 0; ++group) {
+    outside &= group_codes[group];
+  }
+  for (uint group = ranges.z / CLR_CODE_GROUP_SLOTS; group <= ranges.w / CLR_CODE_GROUP_SLOTS && outside != 0; ++group) {
+    outside &= group_codes[group];
+  }
+  culled[j] = outside != 0;
+}
+
+/* culled_blocks: cull_blocks' verdicts for the chunk's blocks, where `block_culling`; a primitive of a
+ * culled block is rejected without a look at its indices or vertices. */
 __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap slots,
-                             __global const uchar* indices, __global const float4* shaded,
-                             __constant const DrawUniforms* u, __global SetupTriangle* records,
-                             __global uint2* bin_boxes, __global uint* pair_counts, __global uint* clipped_counts,
-                             __global uint* counters) {
+                             __global const uchar* indices, __global const float4* shaded, int block_culling,
+                             __global const uchar* culled_blocks, __constant const DrawUniforms* u,
+                             __global SetupTriangle* records, __global uint2* bin_boxes, __global uint* pair_counts,
+                             __global uint* clipped_counts, __global uint* counters) {
   const uint i = get_global_id(0);
   if (i >= primitive_count) return;
+  if (i == primitive_count - 1) { /* the extra entries, whose exclusive scans are the totals */
+    pair_counts[primitive_count] = 0;
+    clipped_counts[primitive_count] = 0;
+  }
   uint pairs = 0;
   uint clipped = 0;
+  if (block_culling && culled_blocks[(primitive_begin + i) / CLR_CULL_BLOCK_PRIMITIVES -
+                                     primitive_begin / CLR_CULL_BLOCK_PRIMITIVES]) {
+    pair_counts[i] = 0;
+    clipped_counts[i] = 0;
+    return;
+  }
   const uint3 vertex_slots = primitive_slots(primitive_begin + i, &slots, indices, u);
   const uint2 codes = primitive_codes(shaded, vertex_slots);
   const uint planes = codes.x & CLR_VERTEX_OUTSIDE_PLANES;
   if (codes.x & CLR_VERTEX_NOT_FINITE) {
     atomic_inc(&counters[CLR_COUNTER_DROPPED]);
-  } else if (codes.y & CLR_VERTEX_OUTSIDE_PLANES) {
-    /* All three vertices outside one plane: nothing of it is left. */
+  } else if (codes.y & CLR_VERTEX_OUTSIDE) {
+    /* All three vertices outside one plane, or one side of the viewport: nothing of it is left. */
   } else if (planes == 0) {
     WindowVertex triangle[3];
     TriangleExtent extent;
@@ -127,10 +158,6 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
   }
   pair_counts[i] = pairs;
   clipped_counts[i] = clipped;
-  if (i == primitive_count - 1) { /* the extra entries, whose exclusive scans are the totals */
-    pair_counts[primitive_count] = 0;
-    clipped_counts[primitive_count] = 0;
-  }
 }
 
 /* For the primitives triangle_setup counted clipped triangles for: the same clipping again, writing

@@ -16,10 +16,21 @@ struct SetupParams {
   cl::Buffer shaded;
   std::uint32_t primitive_begin = 0;  // primitive index within the draw
   std::uint32_t primitive_count = 0;
+  bool block_culling = false;
+  cl::Buffer culled_blocks;   // cull_blocks' verdicts for the chunk's blocks (any buffer without block_culling)
   cl::Buffer records;         // out: the SetupTriangle of each primitive that needs no clipping
   cl::Buffer bin_boxes;       // out: and its pixel box (uint2: pixel_min, pixel_max), for binning
   cl::Buffer pair_counts;     // out: tiles each primitive's triangles touch, clipped ones' included
   cl::Buffer clipped_counts;  // out: triangles clipping leaves of each primitive that crosses a plane
+};
+
+// Block culling (clr_limits.h): which of the blocks of primitives a chunk overlaps are culled whole.
+struct CullParams {
+  std::uint32_t first_block = 0;  // the block of the chunk's first primitive (of the draw's blocks)
+  std::uint32_t block_count = 0;
+  cl::Buffer index_ranges;        // per block of the draw: its smallest and largest index
+  cl::Buffer group_codes;         // per group of vertex slots: the clip planes all its vertices are outside
+  cl::Buffer culled;              // out: per block of the chunk, 1 where culled
 };
 
 // For the primitives that cross a clip plane, once the clipped counts are scanned into offsets.
@@ -35,13 +46,16 @@ struct ClippedSetupParams {
 
 class SetupStage {
  public:
-  explicit SetupStage(const cl::Program& program) : setup_(program, "triangle_setup"), clipped_(program, "clipped_setup") {}
+  explicit SetupStage(const cl::Program& program)
+      : setup_(program, "triangle_setup"), clipped_(program, "clipped_setup"), cull_(program, "cull_blocks") {}
   void run(cl_host::Queue& queue, const SetupParams& params);
   void run_clipped(cl_host::Queue& queue, const ClippedSetupParams& params);
+  void run_cull(cl_host::Queue& queue, const CullParams& params);
 
  private:
   cl::Kernel setup_;
   cl::Kernel clipped_;
+  cl::Kernel cull_;
 };
 
 }  // namespace clraster::stages

@@ -261,6 +261,11 @@ typedef struct {
 #define CLR_VERTEX_OUTSIDE_PLANES ((1u << CLR_CLIP_PLANES) - 1u)
 #define CLR_VERTEX_NOT_FINITE (1u << CLR_CLIP_PLANES)           /* the position has an infinity or NaN */
 #define CLR_VERTEX_NOT_PROJECTABLE (1u << (CLR_CLIP_PLANES + 1)) /* inside every plane, but w = 0 */
+/* Outside the viewport's left, right, bottom or top side (x < -w, x > w, y < -w, y > w): not a
+ * clip plane (the guard band is), but a primitive whose vertices are all outside one side has no
+ * pixel, and is rejected as one outside a clip plane is. */
+#define CLR_VERTEX_OUTSIDE_VIEW (0xfu << (CLR_CLIP_PLANES + 2))
+#define CLR_VERTEX_OUTSIDE (CLR_VERTEX_OUTSIDE_PLANES | CLR_VERTEX_OUTSIDE_VIEW)
 
 /* Where the vertex stage put the vertex of each stream position, for one chunk (see vertex.cl). */
 typedef struct {

@@ -9,11 +9,13 @@
  * slot, main_count, holds the fan's centre (stream position 0).
  *
  * Besides the program's outputs a slot keeps the vertex's clip codes and its window position
- * (types.h): computed here once per vertex, not by set-up once per triangle using it. */
+ * (types.h): computed here once per vertex, not by set-up once per triangle using it. When every
+ * vertex is shaded once, the codes of each group of CLR_CODE_GROUP_SLOTS slots are also ANDed into
+ * group_codes (filled with ones before), for block culling (setup.cl). */
 
 __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint stream_begin, uint main_count,
-                           uint slot_count, __constant const DrawUniforms* u,
-                           __global float4* shaded CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
+                           uint slot_count, __constant const DrawUniforms* u, __global float4* shaded,
+                           __global uint* group_codes CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
   const uint first_slot = get_global_id(0) * CLR_VERTEX_LANES;
   if (first_slot >= slot_count) return;
   const uint lane_count = min((uint)CLR_VERTEX_LANES, slot_count - first_slot);
@@ -54,9 +56,24 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
   const ProjectedLanes window = project_lanes(&p, u);
   const vertex_lanes_int finite = isfinite(p.x) && isfinite(p.y) && isfinite(p.z) && isfinite(p.w);
   const vertex_lanes_int codes = clip_outcode_lanes(&p, vload2(0, u->guard_min), vload2(0, u->guard_max)) |
+                                 view_outcode_lanes(&p) |
                                  select((vertex_lanes_int)(0), (vertex_lanes_int)(CLR_VERTEX_NOT_FINITE), !finite) |
                                  select((vertex_lanes_int)(0), (vertex_lanes_int)(CLR_VERTEX_NOT_PROJECTABLE),
                                         finite && !window.projectable);
+  /* The planes and viewport sides that all of this work-item's vertices are outside: none if one is
+   * not finite (such a vertex's primitives are dropped and counted, not culled). Lanes past the last
+   * slot count as outside all of them. CLR_VERTEX_LANES divides CLR_CODE_GROUP_SLOTS, so the slots
+   * are in one group. */
+  if (shade_all) {
+    const vertex_lanes_int outside =
+        select(codes & (vertex_lanes_int)(CLR_VERTEX_OUTSIDE), (vertex_lanes_int)(0), !finite);
+    uint all_outside = CLR_VERTEX_OUTSIDE;
+#pragma unroll
+    for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
+      if (lane < lane_count) all_outside &= (uint)CLR_VERTEX_LANE(int, outside, lane);
+    }
+    atomic_and(&group_codes[first_slot / CLR_CODE_GROUP_SLOTS], all_outside);
+  }
 #pragma unroll
   for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
     if (lane < lane_count) {

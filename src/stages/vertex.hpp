@@ -16,6 +16,7 @@ struct VertexParams {
   std::uint32_t main_count = 0;    // and slot main_count = the fan's centre when slot_count exceeds it
   std::uint32_t slot_count = 0;
   cl::Buffer shaded;
+  cl::Buffer group_codes;  // when shade_all: each group of slots' clip codes, ANDed in (filled with ones)
 };
 
 class VertexStage {
