@@ -29,10 +29,10 @@ void index_max(__global const uchar* indices, int index_size, uint first, uint c
 /* Where the indices of each block of CLR_CULL_BLOCK_PRIMITIVES primitives of an indexed draw of
  * `primitive_count` primitives from element `first` are, one work-item per block: two ranges, (x, y)
  * and (z, w), that hold them all, the block's smallest to largest index split at their midpoint and
- * each side shrunk to the indices it has. A block of a grid
- * mesh's cells takes vertices from two rows, each a run of the grid's vertex order: two ranges find
- * both, where one would hold the whole row between them. The elements of a list's primitives p are
- * 3p to 3p + 2, of a strip's p to p + 2, and of a fan's 0 and p + 1 to p + 2 (stages/primitive.cl). */
+ * each side shrunk to the indices it has. A block of a grid mesh's cells takes vertices from two
+ * rows, each a run of the grid's vertex order: two ranges find both, where one would hold the whole
+ * row between them. The elements of a list's primitives p are 3p to 3p + 2, of a strip's p to
+ * p + 2, and of a fan's 0 and p + 1 to p + 2 (stages/primitive.cl). */
 __kernel void block_index_ranges(__global const uchar* indices, int index_size, uint first, uint primitive_count,
                                  int topology, __global uint4* ranges) {
   const uint block = get_global_id(0);
@@ -46,18 +46,20 @@ __kernel void block_index_ranges(__global const uchar* indices, int index_size, 
   } else if (topology == CLR_TOPOLOGY_FAN) {
     element_begin = begin + 1;
   }
-  /* A fan's centre, element 0, in its place among the elements, so both passes see it. */
   const bool fan = topology == CLR_TOPOLOGY_FAN;
-  uint2 range = (uint2)(0xffffffffu, 0u);
-  for (uint e = element_begin - fan; e < element_end; ++e) {
-    const uint index = fetch_index(indices, index_size, first + (fan && e == element_begin - 1 ? 0 : e));
+  const uint centre = fetch_index(indices, index_size, first); /* a fan's, in every primitive */
+  uint2 range = fan ? (uint2)(centre) : (uint2)(0xffffffffu, 0u);
+  for (uint e = element_begin; e < element_end; ++e) {
+    const uint index = fetch_index(indices, index_size, first + e);
     range = (uint2)(min(range.x, index), max(range.y, index));
   }
   /* The largest index is above the midpoint unless all are equal, so the upper range has one. */
   const uint middle = range.x + (range.y - range.x) / 2;
   uint4 split = (uint4)(range.x, range.x, range.y, range.y); /* lower's first and last, upper's */
-  for (uint e = element_begin - fan; e < element_end; ++e) {
-    const uint index = fetch_index(indices, index_size, first + (fan && e == element_begin - 1 ? 0 : e));
+  if (fan && centre <= middle) split.y = max(split.y, centre);
+  if (fan && centre > middle) split.z = min(split.z, centre);
+  for (uint e = element_begin; e < element_end; ++e) {
+    const uint index = fetch_index(indices, index_size, first + e);
     if (index <= middle) split.y = max(split.y, index);
     else split.z = min(split.z, index);
   }
