@@ -12,9 +12,6 @@
 
 #if CLR_SPAN_PIXELS > 1
 
-/* Lane `lane` of a span's 2-component value. */
-#define CLR_SPAN_FLOAT2_LANE(v, lane) ((float2)(CLR_SPAN_LANE(float, (v).x, lane), CLR_SPAN_LANE(float, (v).y, lane)))
-
 /* clr_floor_mod and clr_wrap (texture.cl) lane by lane, each lane with its own size. */
 static inline clr_span_int clr_span_floor_mod(clr_span_int a, clr_span_int b) {
   const clr_span_int inside = CLR_SPAN_AS(uint, a) < CLR_SPAN_AS(uint, b);
