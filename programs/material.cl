@@ -38,7 +38,7 @@ void vertex(clr_vertex* v) {
  *   const float length_of_normal = length(f->in.eye_normal);
  *   const float diffuse = length_of_normal > 0.0f ? fabs(dot(f->in.eye_normal / length_of_normal, light)) : 0.0f;
  *   f->out.color = (float4)(base.xyz * (AMBIENT + (1.0f - AMBIENT) * diffuse), 1.0f);
- * and draw the same picture (to rounding), 1.8 times slower on CPUs (the demo scene at 1920x1080). */
+ * and draw the same picture (to rounding), 2 to 4 times slower on CPUs (docs/performance.md). */
 void fragment_span(clr_span_fragment* f) {
   const clr_span_float4 texel = clr_sample(f, f->textures.base_color_texture, f->in.uv);
   const float4 factor = f->uniforms->base_color;
