@@ -94,8 +94,8 @@
  * before set-up: the vertex stage ANDs the clip codes of each group of CLR_CODE_GROUP_SLOTS
  * consecutive vertex slots, and a block of CLR_CULL_BLOCK_PRIMITIVES primitives whose vertices'
  * index ranges lie in groups that are all outside one clip plane or side of the viewport leaves
- * set-up nothing to read (stages/setup.cl). A mesh's primitives near each other in its index order are near each other in
- * space, so the parts of a large mesh outside the view go a block at a time. */
+ * set-up nothing to read (stages/setup.cl). A mesh's primitives near each other in its index order
+ * are near each other in space, so the parts of a large mesh outside the view go a block at a time. */
 #define CLR_CULL_BLOCK_PRIMITIVES 64
 #define CLR_CODE_GROUP_SLOTS 64
 

@@ -252,8 +252,8 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   } else {
     const StreamRange range = stream_range(frame.topology, begin, count);
     shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * frame.shaded_vertex_bytes);
-    frame.source->stages->vertex.run(queue_,
-                                     {frame.buffers, false, range.begin, range.count, range.slot_count, shaded, placeholder_});
+    frame.source->stages->vertex.run(
+        queue_, {frame.buffers, false, range.begin, range.count, range.slot_count, shaded, placeholder_});
     slots = {0, range.begin, range.count};
   }
 

@@ -148,7 +148,8 @@ static void clr_span_filter_levels(clr_texture t, clr_span_float2 uv, clr_span_i
 }
 
 /* clr_sample_lambda: each lane's level(s) and weight as texture.cl picks them, then the filter. */
-static void clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_float lambda_base, clr_span_float4* result) {
+static void clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_float lambda_base,
+                                   clr_span_float4* result) {
   __constant const TextureDesc* desc = t.desc;
   const float bias = clamp(desc->lod_bias, -CLR_MAX_TEXTURE_LOD_BIAS, CLR_MAX_TEXTURE_LOD_BIAS);
   const clr_span_float lambda = fmin(fmax(lambda_base + bias, desc->min_lod), desc->max_lod);
@@ -167,7 +168,8 @@ static void clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_f
       const clr_span_int last = !(lambda < (float)q);
       const clr_span_float d1 = floor(lambda);
       const clr_span_int alone = last || magnified;
-      const clr_span_int finer_level = select(select(CLR_SPAN_CONVERT(int, d1), (clr_span_int)(q), last), (clr_span_int)(0), magnified);
+      const clr_span_int finer_level =
+          select(select(CLR_SPAN_CONVERT(int, d1), (clr_span_int)(q), last), (clr_span_int)(0), magnified);
       const clr_span_float weight = select(lambda - d1, (clr_span_float)(0.0f), alone);
       clr_span_filter_levels(t, uv, finer_level, magnified, result); /* the finer level */
       /* A whole lambda takes level d1 alone (and saves filtering the coarser one). */

@@ -19,7 +19,8 @@
  * decided once per span. Spans are CLR_CPU_SPAN_PIXELS wide where one work-item walks a whole tile
  * (CPU shapes, clr_limits.h) and one pixel wide where each work-item has its pixel (GPU shapes, the
  * quad shading of per-fragment programs), or where the program's own depth_test or blend function,
- * which take one fragment, run per fragment. The same source serves both widths, so both compute the same bits.
+ * which take one fragment, run per fragment. The same source serves both widths, so both compute
+ * the same bits.
  *
  * Masks are what comparisons give: -1 per true lane in vectors, 1 in scalars. Both are true to
  * select(), &&, || and !, and clr_span_any tests them; ~ is never applied to a mask (~1 is true).

@@ -634,6 +634,17 @@ CLR_INLINE void process_packed_span(const __local SetupTriangle* t, int2 origin,
 }
 #endif
 
+/* The first pixel, within its mask word, of the quad of the lowest pixel left in `*left` (a word of a
+ * coverage mask, which holds whole rows, an even number of them, so the quad is in it); the quad's
+ * pixels are taken out of `*left`. The quad walks of quad shading take a triangle's quads in this
+ * order. */
+static inline uint take_lowest_quad(ulong* left) {
+  const uint bit = (63 - clz(*left & (0 - *left))) & 63;
+  const uint corner = (bit / CLR_TILE_SIZE & ~1u) * CLR_TILE_SIZE + (bit % CLR_TILE_SIZE & ~1u);
+  *left &= ~((3ul | 3ul << CLR_TILE_SIZE) << corner);
+  return corner;
+}
+
 #if CLR_QUAD_SPANS
 /* The fragments of triangle t in the quads whose first pixels are the tile's pixels `first` and
  * `second`, where `covered` (lane bits; fragment_ops.cl: lanes 0, 1, 4, 5 the first quad's, 2, 3,
@@ -771,19 +782,17 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_SPANS
     /* The quads that have a pixel of the triangle, two to a span (fragment_ops.cl), in mask order
      * wherever they are in the tile, as packed spans take pixels: a thin triangle crosses many
-     * blocks of 4x2 pixels in one quad of the two. A quad's pixels are in one word of a mask, which
-     * holds whole rows, an even number of them. */
+     * blocks of 4x2 pixels in one quad of the two. */
     for (uint i = 0; i < n; ++i) {
       uint first_quad = 0; /* the span's first quad's first pixel, while it waits for a second */
       uint covered = 0;    /* the span's covered lanes */
       bool waiting = false;
       for (int w = coverage[i].first_word; w < coverage[i].end_word; ++w) {
         for (ulong left = masks[i][w]; left != 0;) {
-          const uint bit = (63 - clz(left & (0 - left))) & 63;
-          const uint corner = (bit / CLR_TILE_SIZE & ~1u) * CLR_TILE_SIZE + (bit % CLR_TILE_SIZE & ~1u);
-          left &= ~((3ul | 3ul << CLR_TILE_SIZE) << corner);
+          const uint corner = take_lowest_quad(&left);
           /* The quad's pixels (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1) in bits 0-3. */
-          const uint quad = (uint)(masks[i][w] >> corner) & 3u | ((uint)(masks[i][w] >> (corner + CLR_TILE_SIZE)) & 3u) << 2;
+          const uint quad =
+              (uint)(masks[i][w] >> corner) & 3u | ((uint)(masks[i][w] >> (corner + CLR_TILE_SIZE)) & 3u) << 2;
           const uint pixel = (uint)w * 64 + corner;
           if (!waiting) {
             first_quad = pixel;
@@ -798,7 +807,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
       }
       /* A last quad alone: its lanes again in the second quad's, which cover nothing. */
       if (waiting) {
-        process_quad_span(&batch[i], origin, first_quad, first_quad, covered, &f, tile_color, tile_depth, tile_stencil, u);
+        process_quad_span(&batch[i], origin, first_quad, first_quad, covered, &f, tile_color, tile_depth, tile_stencil,
+                          u);
       }
     }
 #elif CLR_QUAD_EXCHANGE && CLR_RASTER_GROUP == CLR_QUAD_PIXELS
@@ -808,9 +818,7 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
     for (uint i = 0; i < n; ++i) {
       for (int w = coverage[i].first_word; w < coverage[i].end_word; ++w) {
         for (ulong left = masks[i][w]; left != 0;) {
-          const uint bit = (63 - clz(left & (0 - left))) & 63;
-          const uint corner = (bit / CLR_TILE_SIZE & ~1u) * CLR_TILE_SIZE + (bit % CLR_TILE_SIZE & ~1u);
-          left &= ~((3ul | 3ul << CLR_TILE_SIZE) << corner);
+          const uint corner = take_lowest_quad(&left);
           const uint pixel = (uint)w * 64 + corner + (item & 1u) + (item >> 1) * CLR_TILE_SIZE;
           const clr_span_place place = {origin.x + (int)(pixel % CLR_TILE_SIZE), origin.y + (int)(pixel / CLR_TILE_SIZE),
                                         pixel, 0, 0, 0, false};

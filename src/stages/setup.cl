@@ -85,6 +85,14 @@ CLR_INLINE void write_setup_triangle(const WindowVertex* v0, const WindowVertex*
   *out = t;
 }
 
+/* `outside` ANDed with the codes of the groups that hold vertex slots first to last. */
+static inline uint outside_of_groups(__global const uint* group_codes, uint first, uint last, uint outside) {
+  for (uint group = first / CLR_CODE_GROUP_SLOTS; group <= last / CLR_CODE_GROUP_SLOTS && outside != 0; ++group) {
+    outside &= group_codes[group];
+  }
+  return outside;
+}
+
 /* Block culling (clr_limits.h): block first_block + j of the draw's primitives is outside a clip
  * plane or viewport side where every group of vertex slots in its index ranges is (the vertex
  * stage's group_codes, the ranges from block_index_ranges), and culled[j] is then 1, else 0. One
@@ -94,13 +102,8 @@ __kernel void cull_blocks(uint first_block, uint block_count, __global const uin
   const uint j = get_global_id(0);
   if (j >= block_count) return;
   const uint4 ranges = index_ranges[first_block + j]; /* two, (x, y) and (z, w) */
-  uint outside = CLR_VERTEX_OUTSIDE;
-  for (uint group = ranges.x / CLR_CODE_GROUP_SLOTS; group <= ranges.y / CLR_CODE_GROUP_SLOTS && outside != 0; ++group) {
-    outside &= group_codes[group];
-  }
-  for (uint group = ranges.z / CLR_CODE_GROUP_SLOTS; group <= ranges.w / CLR_CODE_GROUP_SLOTS && outside != 0; ++group) {
-    outside &= group_codes[group];
-  }
+  const uint outside = outside_of_groups(group_codes, ranges.z, ranges.w,
+                                         outside_of_groups(group_codes, ranges.x, ranges.y, CLR_VERTEX_OUTSIDE));
   culled[j] = outside != 0;
 }
 
