@@ -40,8 +40,8 @@
  * take 1). PoCL does not vectorize that fixed-function work across work-items, because the vertex
  * program before it works on float4s (stages/clip.cl). */
 #define CLR_CPU_VERTEX_LANES 8
-/* Scans, radix-sort passes and index validation take blocks of CLR_SCAN_BLOCK elements, one
- * work-group each. Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are the device's choice:
+/* Scans and index validation take blocks of CLR_SCAN_BLOCK elements, one work-group each (radix
+ * sorts take blocks of their own, below). Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are the device's choice:
  * CLR_SCAN_GPU_ITEMS on GPUs, which share a block's work through local memory, and
  * CLR_SCAN_CPU_ITEMS on CPUs, where PoCL would run the group's many barriers (each a pass of a loop
  * over all its work-items) for what one work-item does in one pass over the block (measured). */
@@ -51,17 +51,23 @@
 #ifdef CLR_SCAN_GROUP_SIZE
 #define CLR_SCAN_ITEMS (CLR_SCAN_BLOCK / CLR_SCAN_GROUP_SIZE) /* elements per work-item */
 #endif
-/* Bits of the tile key sorted per radix pass, for blocks sorted by `items` work-items each: where one
- * work-item sorts a block (CPUs), its counts per digit are its own and 8 bits sort 1080p's 32,400
- * tiles in 2 passes; where many share a block (GPUs), their counts per digit and work-item must fit
- * the 32 KiB of local memory small GPUs have, and 5 bits take 3 passes. */
-#define CLR_RADIX_CPU_BITS 8
+/* The radix sort of bin pairs by tile takes blocks of pairs, one work-group each, and digits of the tile
+ * key, one pass each. Where one work-item sorts a block (CPUs), its counts per digit are its own and
+ * cost nothing in local memory: 11-bit digits sort 1080p's 2,040 tiles of 32x32 in one pass, and
+ * blocks of 32,768 pairs keep the histogram (a count per digit and block) at a sixteenth of the pairs.
+ * Where many share a block (GPUs), their counts per digit and work-item must fit the 32 KiB of local
+ * memory small GPUs have: 5 bits, blocks of CLR_SCAN_BLOCK. */
+#define CLR_RADIX_CPU_BITS 11
+#define CLR_RADIX_CPU_BLOCK 32768
 #define CLR_RADIX_GPU_BITS 5
+#define CLR_RADIX_GPU_BLOCK CLR_SCAN_BLOCK
 #define CLR_RADIX_BITS_FOR(items) ((items) == CLR_SCAN_CPU_ITEMS ? CLR_RADIX_CPU_BITS : CLR_RADIX_GPU_BITS)
-#define CLR_RADIX_MAX_BUCKETS (1 << CLR_RADIX_CPU_BITS) /* the larger digit: histogram scratch is sized for it */
+#define CLR_RADIX_BLOCK_FOR(items) ((items) == CLR_SCAN_CPU_ITEMS ? CLR_RADIX_CPU_BLOCK : CLR_RADIX_GPU_BLOCK)
 #ifdef CLR_SCAN_GROUP_SIZE
 #define CLR_RADIX_BITS CLR_RADIX_BITS_FOR(CLR_SCAN_GROUP_SIZE)
 #define CLR_RADIX_BUCKETS (1 << CLR_RADIX_BITS)
+#define CLR_RADIX_BLOCK CLR_RADIX_BLOCK_FOR(CLR_SCAN_GROUP_SIZE)
+#define CLR_RADIX_ITEMS (CLR_RADIX_BLOCK / CLR_SCAN_GROUP_SIZE) /* pairs per work-item */
 #endif
 #define CLR_CLEAR_TEXELS_PER_ITEM 256 /* texels one work-item of a clear writes */
 

@@ -432,11 +432,12 @@ TEST_P(ParallelTest, RadixSortIsStable) {
   ContextState& s = state();
   parallel::Scan scan(state().core_program());
   parallel::RadixSort sort(state().core_program(), scan);
-  const std::size_t n = 3 * CLR_SCAN_BLOCK + 123;
+  // Several blocks of either shape, and keys of 13 bits: more than one pass of either digit size.
+  const std::size_t n = 3 * std::max(CLR_RADIX_CPU_BLOCK, CLR_RADIX_GPU_BLOCK) + 123;
   std::vector<cl_uint> keys(n), values(n);
   std::mt19937 random(7);
   for (std::size_t i = 0; i < n; ++i) {
-    keys[i] = random() % 1000;  // many equal keys: stability shows
+    keys[i] = random() % 5000;  // many equal keys: stability shows
     values[i] = static_cast<cl_uint>(i);
   }
   const cl::Buffer key_buffers[2] = {buffer(keys), buffer(std::vector<cl_uint>(n))};
@@ -444,7 +445,7 @@ TEST_P(ParallelTest, RadixSortIsStable) {
   cl::Buffer histogram(s.context, CL_MEM_READ_WRITE, parallel::RadixSort::histogram_bytes(n));
   cl::Buffer block_sums(s.context, CL_MEM_READ_WRITE, parallel::RadixSort::scan_scratch_bytes(n));
   cl::Buffer counters = buffer(std::vector<cl_uint>(CLR_COUNTER_COUNT));
-  const int result = sort.sort(s.queue, key_buffers, value_buffers, n, 10, histogram, block_sums, counters);
+  const int result = sort.sort(s.queue, key_buffers, value_buffers, n, 13, histogram, block_sums, counters);
 
   std::vector<std::pair<cl_uint, cl_uint>> expected(n);
   for (std::size_t i = 0; i < n; ++i) expected[i] = {keys[i], values[i]};

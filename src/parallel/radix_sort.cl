@@ -3,7 +3,7 @@
  * sorting by tile each tile's triangles are still in primitive order.
  *
  * One pass:
- *   radix_histogram  per block of CLR_SCAN_BLOCK pairs, how many have each digit, stored digit-major
+ *   radix_histogram  per block of CLR_RADIX_BLOCK pairs, how many have each digit, stored digit-major
  *                    (histogram[digit * block_count + block]) so that one exclusive scan of the whole
  *                    histogram gives every (digit, block) its first output position;
  *   (scan of the histogram, scan.cl)
@@ -19,8 +19,8 @@ void radix_histogram(__global const uint* keys, uint count, uint shift, __global
   const uint lid = get_local_id(0);
   for (uint d = lid; d < CLR_RADIX_BUCKETS; d += CLR_SCAN_GROUP_SIZE) buckets[d] = 0;
   barrier(CLK_LOCAL_MEM_FENCE);
-  const uint begin = get_group_id(0) * CLR_SCAN_BLOCK;
-  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
+  const uint begin = get_group_id(0) * CLR_RADIX_BLOCK;
+  for (uint i = 0; i < CLR_RADIX_ITEMS; ++i) {
     const uint index = begin + i * CLR_SCAN_GROUP_SIZE + lid;
 #if CLR_SCAN_GROUP_SIZE == 1 /* nobody to share the counts with: a locked increment costs many plain ones */
     if (index < count) ++buckets[radix_digit(keys[index], shift)];
@@ -41,14 +41,17 @@ void radix_scatter(__global const uint* keys_in, __global const uint* values_in,
   /* counts[digit * GROUP + item]: pairs of that digit among the item's consecutive pairs, then their
    * exclusive scan. 16 bits hold any count within a block, and keep the array within the 32 KiB of
    * local memory small GPUs have. */
+#if CLR_RADIX_BLOCK > 65535
+#error "a radix block's counts must fit 16 bits"
+#endif
   __local ushort counts[CLR_RADIX_BUCKETS * CLR_SCAN_GROUP_SIZE];
   __local uint scratch[CLR_SCAN_GROUP_SIZE];
   const uint lid = get_local_id(0);
-  const uint begin = get_group_id(0) * CLR_SCAN_BLOCK + lid * CLR_SCAN_ITEMS;
+  const uint begin = get_group_id(0) * CLR_RADIX_BLOCK + lid * CLR_RADIX_ITEMS;
 
   uint own[CLR_RADIX_BUCKETS];
   for (uint d = 0; d < CLR_RADIX_BUCKETS; ++d) own[d] = 0;
-  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
+  for (uint i = 0; i < CLR_RADIX_ITEMS; ++i) {
     if (begin + i < count) ++own[radix_digit(keys_in[begin + i], shift)];
   }
   for (uint d = 0; d < CLR_RADIX_BUCKETS; ++d) counts[d * CLR_SCAN_GROUP_SIZE + lid] = (ushort)own[d];
@@ -75,7 +78,7 @@ void radix_scatter(__global const uint* keys_in, __global const uint* values_in,
     position[d] = digit_offsets[d * block_count + get_group_id(0)] + counts[d * CLR_SCAN_GROUP_SIZE + lid] -
                   counts[d * CLR_SCAN_GROUP_SIZE];
   }
-  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
+  for (uint i = 0; i < CLR_RADIX_ITEMS; ++i) {
     if (begin + i < count) {
       const uint key = keys_in[begin + i];
       const uint destination = position[radix_digit(key, shift)]++;

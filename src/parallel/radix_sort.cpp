@@ -14,10 +14,15 @@ RadixSort::RadixSort(const cl::Program& program, Scan& scan)
       histogram_(program, "radix_histogram"),
       scatter_(program, "radix_scatter"),
       group_size_(cl_host::compiled_group_size(histogram_)),
-      digit_bits_(CLR_RADIX_BITS_FOR(group_size_)) {}
+      digit_bits_(CLR_RADIX_BITS_FOR(group_size_)),
+      block_(CLR_RADIX_BLOCK_FOR(group_size_)) {}
 
 std::size_t RadixSort::histogram_bytes(std::size_t count) {
-  return std::max<std::size_t>(1, divide_round_up(count, CLR_SCAN_BLOCK)) * CLR_RADIX_MAX_BUCKETS * sizeof(cl_uint);
+  const auto entries = [count](std::size_t block, int bits) {
+    return std::max<std::size_t>(1, divide_round_up(count, block)) << bits;
+  };
+  return std::max(entries(CLR_RADIX_CPU_BLOCK, CLR_RADIX_CPU_BITS), entries(CLR_RADIX_GPU_BLOCK, CLR_RADIX_GPU_BITS)) *
+         sizeof(cl_uint);
 }
 
 std::size_t RadixSort::scan_scratch_bytes(std::size_t count) {
@@ -28,16 +33,16 @@ int RadixSort::sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl
                     std::size_t count, int key_bits, const cl::Buffer& histogram, const cl::Buffer& block_sums,
                     const cl::Buffer& counters) {
   const auto n = static_cast<cl_uint>(count);
-  const auto blocks = static_cast<cl_uint>(divide_round_up(count, CLR_SCAN_BLOCK));
+  const auto blocks = static_cast<cl_uint>(divide_round_up(count, block_));
   int source = 0;
   for (int shift = 0; shift < key_bits && count > 1; shift += digit_bits_) {
     const auto shift_arg = static_cast<cl_uint>(shift);
     cl_host::set_args(histogram_, keys[source], n, shift_arg, histogram, blocks);
-    cl_host::enqueue_blocks(queue, histogram_, count, CLR_SCAN_BLOCK, group_size_);
+    cl_host::enqueue_blocks(queue, histogram_, count, block_, group_size_);
     scan_.exclusive(queue, histogram, std::size_t{blocks} << digit_bits_, block_sums, counters);
     cl_host::set_args(scatter_, keys[source], values[source], n, shift_arg, histogram, blocks, keys[1 - source],
                       values[1 - source]);
-    cl_host::enqueue_blocks(queue, scatter_, count, CLR_SCAN_BLOCK, group_size_);
+    cl_host::enqueue_blocks(queue, scatter_, count, block_, group_size_);
     source = 1 - source;
   }
   return source;

@@ -9,7 +9,7 @@ class RadixSort {
  public:
   RadixSort(const cl::Program& program, Scan& scan);
 
-  // Bytes of histogram scratch for sorting `count` pairs with either digit size, and of block-sum
+  // Bytes of histogram scratch for sorting `count` pairs in either shape, and of block-sum
   // scratch for scanning it.
   static std::size_t histogram_bytes(std::size_t count);
   static std::size_t scan_scratch_bytes(std::size_t count);
@@ -25,6 +25,7 @@ class RadixSort {
   cl::Kernel scatter_;
   std::size_t group_size_;  // work-items per block (CLR_SCAN_GROUP_SIZE)
   int digit_bits_;          // bits sorted per pass (CLR_RADIX_BITS in the kernels)
+  std::size_t block_;       // pairs per block (CLR_RADIX_BLOCK in the kernels)
 };
 
 }  // namespace clraster::parallel
