@@ -6,6 +6,22 @@
  * associative, so the result does not depend on the order of the additions, and a scan whose true
  * total does not fit in 32 bits stays monotone, with a total of UINT_MAX the host can recognize. */
 
+/* A block's elements add up exactly in 64 bits; their saturated sum is that, clamped. */
+static inline uint saturated(ulong sum) { return (uint)min(sum, (ulong)UINT_MAX); }
+
+#if CLR_SCAN_ITEMS % 8 != 0
+#error "scan_apply scans a work-item's elements eight at a time"
+#endif
+
+/* Lane k: the sum of lanes 0 to k (three shifted additions). */
+static inline ulong8 inclusive_scan8(ulong8 v) {
+  const ulong8 zero = (ulong8)(0);
+  v += shuffle2(zero, v, (ulong8)(0, 8, 9, 10, 11, 12, 13, 14));
+  v += shuffle2(zero, v, (ulong8)(0, 1, 8, 9, 10, 11, 12, 13));
+  v += shuffle2(zero, v, (ulong8)(0, 1, 2, 3, 8, 9, 10, 11));
+  return v;
+}
+
 /* Exclusive scan of one value per work-item across the work-group (CLR_SCAN_GROUP_SIZE items).
  * Returns the item's prefix; *total receives the sum over the group. Hillis-Steele in local memory:
  * log2(group) rounds, every item active, no divergent barriers. */
@@ -30,14 +46,14 @@ __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
 void scan_reduce(__global const uint* data, uint count, __global uint* block_sums) {
   __local uint scratch[CLR_SCAN_GROUP_SIZE];
   const uint begin = get_group_id(0) * CLR_SCAN_BLOCK;
-  uint sum = 0;
+  ulong sum = 0;
   /* Strided so that neighbouring work-items read neighbouring elements. */
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     const uint index = begin + i * CLR_SCAN_GROUP_SIZE + get_local_id(0);
-    if (index < count) sum = add_sat(sum, data[index]);
+    if (index < count) sum += data[index];
   }
   uint total;
-  work_group_exclusive_scan(sum, scratch, &total);
+  work_group_exclusive_scan(saturated(sum), scratch, &total);
   if (get_local_id(0) == 0) block_sums[get_group_id(0)] = total;
 }
 
@@ -61,19 +77,29 @@ void scan_block_sums(__global uint* block_sums, uint block_count, __global uint*
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
 void scan_apply(__global uint* data, uint count, __global const uint* block_offsets) {
   __local uint scratch[CLR_SCAN_GROUP_SIZE];
-  /* Each work-item scans CLR_SCAN_ITEMS consecutive elements serially, then the items' sums are
-   * scanned across the group. */
+  /* Each work-item sums CLR_SCAN_ITEMS consecutive elements (a multiple of 8), the items' sums are
+   * scanned across the group, then each item scans its elements. */
   const uint begin = get_group_id(0) * CLR_SCAN_BLOCK + get_local_id(0) * CLR_SCAN_ITEMS;
-  uint values[CLR_SCAN_ITEMS];
-  uint sum = 0;
+  ulong sum = 0;
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
-    values[i] = begin + i < count ? data[begin + i] : 0u;
-    sum = add_sat(sum, values[i]);
+    if (begin + i < count) sum += data[begin + i];
   }
   uint group_total;
-  uint running = add_sat(block_offsets[get_group_id(0)], work_group_exclusive_scan(sum, scratch, &group_total));
-  for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
-    if (begin + i < count) data[begin + i] = running;
-    running = add_sat(running, values[i]);
+  ulong running =
+      add_sat(block_offsets[get_group_id(0)], work_group_exclusive_scan(saturated(sum), scratch, &group_total));
+  /* Eight elements at a time, scanned in a vector; the last block's tail one by one. */
+  for (uint i = 0; i < CLR_SCAN_ITEMS; i += 8) {
+    if (begin + i + 8 <= count) {
+      const ulong8 values = convert_ulong8(vload8(0, data + begin + i));
+      const ulong8 inclusive = inclusive_scan8(values);
+      vstore8(convert_uint8(min((ulong8)(running) + inclusive - values, (ulong8)(UINT_MAX))), 0, data + begin + i);
+      running += inclusive.s7;
+    } else {
+      for (uint j = i; j < i + 8 && begin + j < count; ++j) {
+        const uint value = data[begin + j];
+        data[begin + j] = saturated(running);
+        running += value;
+      }
+    }
   }
 }
