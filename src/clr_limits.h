@@ -103,7 +103,10 @@
  * set-up nothing to read (stages/setup.cl). A mesh's primitives near each other in its index order
  * are near each other in space, so the parts of a large mesh outside the view go a block at a time. */
 #define CLR_CULL_BLOCK_PRIMITIVES 64
-#define CLR_CODE_GROUP_SLOTS 64
+/* A CPU work-item of the vertex stage shades one group and stores its codes: a locked AND into a
+ * group shared by several work-items waited for all the slot stores before it to reach the cache
+ * (docs/performance.md, step 44). */
+#define CLR_CODE_GROUP_SLOTS CLR_CPU_VERTEX_LANES
 
 /* ---- Memory budget -----------------------------------------------------------------------------
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */

@@ -22,11 +22,11 @@ typedef struct {
 #if CLR_VERTEX_LANES == 1
 #define CLR_VERTEX_LANE_SUFFIX
 #define CLR_VERTEX_LANE(type, value, lane) (value)
-#define CLR_VERTEX_LANES_LOAD(array) ((array)[0])
+#define CLR_VERTEX_LANE_INDICES 0
 #elif CLR_VERTEX_LANES == 8
 #define CLR_VERTEX_LANE_SUFFIX 8
 #define CLR_VERTEX_LANE(type, value, lane) (((const type*)&(value))[lane])
-#define CLR_VERTEX_LANES_LOAD(array) vload8(0, array)
+#define CLR_VERTEX_LANE_INDICES (int8)(0, 1, 2, 3, 4, 5, 6, 7)
 #else
 #error "CLR_VERTEX_LANES must be 1 or 8"
 #endif
@@ -39,6 +39,13 @@ typedef CLR_SPAN_CAT(int, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_int; /* also mask
 typedef struct {
   vertex_lanes_float x, y, z, w;
 } PositionLanes;
+
+/* `lanes` with lane `lane` set to `value`, by a select in registers: lanes stored one by one into an
+ * array and loaded back as a vector stall the load, which waits for the stores to reach the cache
+ * (a third of the vertex stage's samples did). */
+static inline vertex_lanes_float with_lane(vertex_lanes_float lanes, uint lane, float value) {
+  return select(lanes, (vertex_lanes_float)(value), CLR_VERTEX_LANE_INDICES == (vertex_lanes_int)((int)lane));
+}
 
 static inline PositionLanes position_in_every_lane(float4 p) {
   return (PositionLanes){(vertex_lanes_float)(p.x), (vertex_lanes_float)(p.y), (vertex_lanes_float)(p.z),

@@ -11,7 +11,8 @@
  * Besides the program's outputs a slot keeps the vertex's clip codes and its window position
  * (types.h): computed here once per vertex, not by set-up once per triangle using it. When every
  * vertex is shaded once, the codes of each group of CLR_CODE_GROUP_SLOTS slots are also ANDed into
- * group_codes (filled with ones before), for block culling (setup.cl). */
+ * group_codes, for block culling (setup.cl): on CPUs a work-item's slots are one group, whose codes
+ * it stores; on GPUs the group's work-items AND theirs in (group_codes filled with ones before). */
 
 __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint stream_begin, uint main_count,
                            uint slot_count, __constant const DrawUniforms* u, __global float4* shaded,
@@ -22,11 +23,7 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
   __global float4* const first_out = shaded + (size_t)first_slot * CLR_SHADED_VERTEX_FLOAT4S;
 
   /* Lanes past the last slot keep (0, 0, 0, 1) and store nothing. */
-  float position[4][CLR_VERTEX_LANES];
-  for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
-    position[0][lane] = position[1][lane] = position[2][lane] = 0.0f;
-    position[3][lane] = 1.0f;
-  }
+  PositionLanes p = position_in_every_lane((float4)(0.0f, 0.0f, 0.0f, 1.0f));
   for (uint lane = 0; lane < lane_count; ++lane) {
     const uint slot = first_slot + lane;
     uint vertex_index = slot;
@@ -44,15 +41,13 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
     __global float4* const out = first_out + lane * CLR_SHADED_VERTEX_FLOAT4S;
     out[0] = v.position;
     clr_store_varyings(&v.out, (__global float*)(out + CLR_SHADED_VARYINGS));
-    position[0][lane] = v.position.x;
-    position[1][lane] = v.position.y;
-    position[2][lane] = v.position.z;
-    position[3][lane] = v.position.w;
+    p.x = with_lane(p.x, lane, v.position.x);
+    p.y = with_lane(p.y, lane, v.position.y);
+    p.z = with_lane(p.z, lane, v.position.z);
+    p.w = with_lane(p.w, lane, v.position.w);
   }
 
   /* The window part of the slots (CLR_SHADED_WINDOW, two float4s). */
-  const PositionLanes p = {CLR_VERTEX_LANES_LOAD(position[0]), CLR_VERTEX_LANES_LOAD(position[1]),
-                           CLR_VERTEX_LANES_LOAD(position[2]), CLR_VERTEX_LANES_LOAD(position[3])};
   const ProjectedLanes window = project_lanes(&p, u);
   const vertex_lanes_int finite = isfinite(p.x) && isfinite(p.y) && isfinite(p.z) && isfinite(p.w);
   const vertex_lanes_int codes = clip_outcode_lanes(&p, vload2(0, u->guard_min), vload2(0, u->guard_max)) |
@@ -72,7 +67,11 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
     for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
       if (lane < lane_count) all_outside &= (uint)CLR_VERTEX_LANE(int, outside, lane);
     }
+#if CLR_VERTEX_LANES == CLR_CODE_GROUP_SLOTS
+    group_codes[first_slot / CLR_CODE_GROUP_SLOTS] = all_outside; /* the work-item's own group */
+#else
     atomic_and(&group_codes[first_slot / CLR_CODE_GROUP_SLOTS], all_outside);
+#endif
   }
 #pragma unroll
   for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
