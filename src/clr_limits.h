@@ -41,22 +41,22 @@
  * program before it works on float4s (stages/clip.cl). */
 #define CLR_CPU_VERTEX_LANES 8
 /* Scans and index validation take blocks of CLR_SCAN_BLOCK elements, one work-group each (radix
- * sorts take blocks of their own, below). Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are the device's choice:
- * CLR_SCAN_GPU_ITEMS on GPUs, which share a block's work through local memory, and
- * CLR_SCAN_CPU_ITEMS on CPUs, where PoCL would run the group's many barriers (each a pass of a loop
- * over all its work-items) for what one work-item does in one pass over the block (measured). */
+ * sorts take blocks of their own, below). Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are
+ * the device's choice: CLR_SCAN_GPU_ITEMS on GPUs, which share a block's work through local memory,
+ * and CLR_SCAN_CPU_ITEMS on CPUs, where PoCL would run the group's many barriers (each a pass of a
+ * loop over all its work-items) for what one work-item does in one pass over the block (measured). */
 #define CLR_SCAN_BLOCK 2048
 #define CLR_SCAN_GPU_ITEMS 256
 #define CLR_SCAN_CPU_ITEMS 1
 #ifdef CLR_SCAN_GROUP_SIZE
 #define CLR_SCAN_ITEMS (CLR_SCAN_BLOCK / CLR_SCAN_GROUP_SIZE) /* elements per work-item */
 #endif
-/* The radix sort of bin pairs by tile takes blocks of pairs, one work-group each, and digits of the tile
- * key, one pass each. Where one work-item sorts a block (CPUs), its counts per digit are its own and
- * cost nothing in local memory: 11-bit digits sort 1080p's 2,040 tiles of 32x32 in one pass, and
- * blocks of 32,768 pairs keep the histogram (a count per digit and block) at a sixteenth of the pairs.
- * Where many share a block (GPUs), their counts per digit and work-item must fit the 32 KiB of local
- * memory small GPUs have: 5 bits, blocks of CLR_SCAN_BLOCK. */
+/* The radix sort of bin pairs by tile takes blocks of pairs, one work-group each, and digits of the
+ * tile key, one pass each. Where one work-item sorts a block (CPUs), its counts per digit are its
+ * own and cost nothing in local memory: 11-bit digits sort 1080p's 2,040 tiles of 32x32 in one
+ * pass, and blocks of 32,768 pairs keep the histogram (a count per digit and block) at a sixteenth
+ * of the pairs. Where many share a block (GPUs), their counts per digit and work-item must fit the
+ * 32 KiB of local memory small GPUs have: 5 bits, blocks of CLR_SCAN_BLOCK. */
 #define CLR_RADIX_CPU_BITS 11
 #define CLR_RADIX_CPU_BLOCK 32768
 #define CLR_RADIX_GPU_BITS 5
