@@ -149,7 +149,7 @@ TEST_F(KernelTest, BlockIndexRangesAreTheTwoHalvesOfTheirBlocksIndices) {
     for (int index_size : {2, 4}) {
       const std::uint32_t elements = static_cast<std::uint32_t>(indices.size()) - first;
       const std::uint32_t primitives = topology == CLR_TOPOLOGY_LIST ? elements / 3 : elements - 2;
-      const std::uint32_t blocks = (primitives + CLR_CULL_BLOCK_PRIMITIVES - 1) / CLR_CULL_BLOCK_PRIMITIVES;
+      const std::size_t blocks = cl_host::divide_round_up(primitives, CLR_CULL_BLOCK_PRIMITIVES);
       cl::Buffer index_buffer = index_size == 4 ? buffer(indices)
                                                 : buffer(std::vector<cl_ushort>(indices.begin(), indices.end()));
       cl::Buffer ranges = buffer(std::vector<cl_uint4>(blocks));

@@ -2,6 +2,7 @@
 // many primitives each chunk takes and how many bin pairs each raster batch takes.
 #pragma once
 
+#include "cl/launch.hpp"
 #include "clr_limits.h"
 #include "resources/scratch.hpp"
 #include "stages/types.h"
@@ -35,7 +36,7 @@ struct MemoryPlan {
 // Block culling (clr_limits.h): the groups of vertex slots whose clip codes are ANDed, and the most
 // blocks of primitives a chunk of `primitives` overlaps, wherever it starts.
 inline std::uint64_t code_groups(std::uint64_t vertices) {
-  return (vertices + CLR_CODE_GROUP_SLOTS - 1) / CLR_CODE_GROUP_SLOTS;
+  return cl_host::divide_round_up(vertices, CLR_CODE_GROUP_SLOTS);
 }
 inline std::uint32_t chunk_blocks(std::uint32_t primitives) { return primitives / CLR_CULL_BLOCK_PRIMITIVES + 2; }
 

@@ -102,8 +102,8 @@ const cl::Buffer& Pipeline::block_index_ranges(const DrawSource& source, std::ui
       cache.blocks_topology == topology) {
     return cache.block_ranges;
   }
-  const std::uint32_t blocks = (primitives + CLR_CULL_BLOCK_PRIMITIVES - 1) / CLR_CULL_BLOCK_PRIMITIVES;
-  cache.block_ranges = cl::Buffer(context_, CL_MEM_READ_WRITE, std::size_t{blocks} * sizeof(cl_uint4));
+  const std::size_t blocks = cl_host::divide_round_up(primitives, CLR_CULL_BLOCK_PRIMITIVES);
+  cache.block_ranges = cl::Buffer(context_, CL_MEM_READ_WRITE, blocks * sizeof(cl_uint4));
   cl_host::set_args(block_index_ranges_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{primitives},
                     cl_int{topology}, cache.block_ranges);
   cl_host::enqueue_items(queue_, block_index_ranges_, blocks, CLR_ITEM_GROUP_SIZE);
