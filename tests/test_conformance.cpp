@@ -652,19 +652,27 @@ TEST(Conformance, ScreenCoveringTriangleDrawsEveryPixelOnce) {
 // A fine grid of 250 x 250 cells seen at an angle from close above, far larger than the view: whole
 // blocks of its primitives lie beyond each side of the viewport and behind the near plane, and the
 // blocks along the view's edges have cells on both sides. Drawn as GL draws it, with 32- and 16-bit
-// indices (its 63,001 vertices fit 16 bits).
+// indices (its 63,001 vertices fit 16 bits), looking one way and then the other, so that blocks
+// outside the first view are in the second, in both work-group shapes, whose vertex stages gather
+// the codes of each group of slots differently (vertex.cl).
 TEST(Conformance, GridMostlyOutsideTheViewMatchesGl) {
   io::Mesh grid = io::make_plane(250, 250, 40, 40);
   io::transform(grid, glm::rotate(glm::mat4(1), -glm::half_pi<float>(), glm::vec3(1, 0, 0)));
   io::Camera camera;
-  camera.eye = {1.5f, 1.2f, 3};
-  camera.target = {-1, 0, -2};
   camera.near_plane = 0.5f;
   camera.far_plane = 8;
-  for (IndexFormat format : {IndexFormat::Uint32, IndexFormat::Uint16}) {
-    SceneDraw draw{&grid, view_state(camera, kWidth, kHeight, Shading::Depth)};
-    draw.index_format = format;
-    expect_matches_gl({draw}, kWidth, kHeight, kNormalShading);
+  for (WorkGroupShape shape : {WorkGroupShape::Device, WorkGroupShape::Wide}) {
+    for (const float side : {1.0f, -1.0f}) {
+      camera.eye = {1.5f * side, 1.2f, 3};
+      camera.target = {-side, 0, -2};
+      for (IndexFormat format : {IndexFormat::Uint32, IndexFormat::Uint16}) {
+        SCOPED_TRACE(testing::Message() << "shape " << static_cast<int>(shape) << ", side " << side << ", "
+                                        << (format == IndexFormat::Uint32 ? "32" : "16") << "-bit indices");
+        SceneDraw draw{&grid, view_state(camera, kWidth, kHeight, Shading::Depth)};
+        draw.index_format = format;
+        expect_matches_gl({draw}, kWidth, kHeight, kNormalShading, shared_context(shape));
+      }
+    }
   }
 }
 

@@ -226,8 +226,10 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
     uniforms.instance = instance;
     queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
     if (frame.plan.shade_all_vertices) {
-      queue_.set_stage(cl_host::Stage::Vertex);
-      cl_host::fill(queue_, frame.group_codes, ~cl_uint{0}, 0, code_groups(vertex_count) * sizeof(cl_uint));
+      if (source.stages->vertex.ands_group_codes()) {
+        queue_.set_stage(cl_host::Stage::Vertex);
+        cl_host::fill(queue_, frame.group_codes, ~cl_uint{0}, 0, code_groups(vertex_count) * sizeof(cl_uint));
+      }
       source.stages->vertex.run(queue_, {&buffers, true, 0, 0, static_cast<std::uint32_t>(vertex_count),
                                          scratch_.get(Scratch::ShadedVertices, vertex_count * frame.shaded_vertex_bytes),
                                          frame.group_codes});

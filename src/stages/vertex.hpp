@@ -2,6 +2,7 @@
 // CLR_VERTEX_LANES slots.
 #pragma once
 
+#include "clr_limits.h"
 #include "stages/draw_buffers.hpp"
 
 #include <cstddef>
@@ -16,7 +17,7 @@ struct VertexParams {
   std::uint32_t main_count = 0;    // and slot main_count = the fan's centre when slot_count exceeds it
   std::uint32_t slot_count = 0;
   cl::Buffer shaded;
-  cl::Buffer group_codes;  // when shade_all: each group of slots' clip codes, ANDed in (filled with ones)
+  cl::Buffer group_codes;  // when shade_all: each group of slots' clip codes (see ands_group_codes)
 };
 
 class VertexStage {
@@ -24,6 +25,10 @@ class VertexStage {
   // `lanes`: the slots each work-item shades, the CLR_VERTEX_LANES the program was built with.
   VertexStage(const cl::Program& program, std::size_t lanes) : kernel_(program, "vertex_shade"), lanes_(lanes) {}
   void run(cl_host::Queue& queue, const VertexParams& params);
+  // Whether work-items share groups of slots and AND their codes into them (vertex.cl), so that
+  // group_codes must hold all ones before the stage runs. Otherwise (CPU shapes) each work-item
+  // stores its own group's codes whole.
+  bool ands_group_codes() const { return lanes_ < CLR_CODE_GROUP_SLOTS; }
 
  private:
   cl::Kernel kernel_;
