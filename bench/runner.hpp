@@ -49,8 +49,7 @@ struct SceneResult {
   double clraster_ms = 0;  // the medians of those
   double gl_ms = 0;
   // Per stage, the median over the timed frames of the stage's device time (OpenCL profiling
-  // events); `other` includes the frame's colour clear (the depth clear is a buffer fill, which
-  // the library does not profile).
+  // events). The frame's clears are pending until the raster stage writes them with its tiles.
   StageTimes stage_ms;
   // A new Context's first frame: from the Context's construction (programs loaded from the disk
   // cache, which the timed context filled if it was empty) to the end of its first frame, uploads

@@ -3,8 +3,9 @@
 // plane, culling, scissor, additive blending; and a user program shaded in quads (derivatives and
 // texture sampling exchange values between work-items) into two attachments with stencil, blending
 // and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device; and
-// mipmaps of a texture with odd sides; and a span program shaded in quads, sampling three textures. Run under Oclgrind by oclgrind_check.sh, which fails on any
-// data race, out-of-bounds access, uninitialized read or API error Oclgrind reports. With the
+// mipmaps of a texture with odd sides; and a span program shaded in quads, sampling three textures.
+// Run under Oclgrind by oclgrind_check.sh, which fails on any data race, out-of-bounds access or API
+// error Oclgrind reports (not on uninitialized reads: that plugin of Oclgrind 21.10 crashes). With the
 // argument "wide", in the GPU's work-group shapes (many work-items per tile and per scan block,
 // where races would show), else in the device's: Oclgrind calls itself a CPU too.
 #include "clraster/clraster.hpp"

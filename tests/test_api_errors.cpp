@@ -7,7 +7,9 @@
 #include "support/test_support.hpp"
 
 #include <array>
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <ostream>
 #include <span>
@@ -279,13 +281,16 @@ TEST_F(RejectedDraw, BuffersOfAnotherContext) {
 }
 
 TEST(MemoryCap, ADrawItCannotHoldIsRejectedWithoutChange) {
-  // 512 x 512 tiles of 8 pixels: their bin entries and ranges alone exceed the smallest cap.
+  // 512 x 512 tiles of 8 pixels: the bin entries of one primitive clipped into 7 triangles that
+  // each cover every tile, and the tile ranges, alone exceed the smallest cap.
   Context context(ContextOptions{.memory_cap = kMinMemoryCap, .tile_size = 8});
   Framebuffer framebuffer(context, 4096, 4096);
   framebuffer.clear({0.2f, 0.3f, 0.4f, 1.0f}, 0.75f);
   const std::vector<float> positions{-1, -1, 0, 1, -1, 0, 0, 1, 0};
   const VertexBuffer vertices(context, positions);
-  EXPECT_TRUE(rejected_without_change(framebuffer, {&vertices}, {"memory cap"}));
+  EXPECT_TRUE(rejected_without_change(framebuffer, {&vertices},
+                                      {"memory cap of 4096 KiB cannot hold one primitive's 1835008 bin entries",
+                                       "raise the memory cap or the tile size"}));
 }
 
 // ---- Non-finite coordinates: not an error ---------------------------------------------------------
@@ -334,6 +339,35 @@ TEST(NonFiniteVertices, DropTheirTrianglesAndCountThemAndTheRestRenders) {
   EXPECT_EQ(reference.stats.triangles_dropped, 0u);
   EXPECT_GT(covered_pixel_count(reference.image), 1000u);
   EXPECT_TRUE(images_match(with_bad.image, reference.image, kExact));
+}
+
+// A float clear of integer attachments truncates toward zero; values past the integer's range
+// saturate and NaN clears to 0, where a plain conversion would be undefined behaviour.
+TEST(NonFiniteClearValues, IntegerAttachmentsSaturateAndTakeNanAsZero) {
+  Context& context = shared_context();
+  Texture signed_texture(context, 1, 1, Format::RGBA32I), unsigned_texture(context, 1, 1, Format::RGBA32UI);
+  Framebuffer framebuffer(context, {&signed_texture, &unsigned_texture}, nullptr);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const auto texel = [](const Texture& texture, auto type) {
+    std::array<decltype(type), 4> value{};
+    const std::vector<std::byte> bytes = texture.read();
+    EXPECT_EQ(bytes.size(), sizeof(value));
+    std::memcpy(value.data(), bytes.data(), std::min(bytes.size(), sizeof(value)));
+    return value;
+  };
+  framebuffer.clear_color({nan, 1e10f, -inf, -3.75f});
+  EXPECT_EQ(texel(signed_texture, std::int32_t{}),
+            (std::array<std::int32_t, 4>{0, std::numeric_limits<std::int32_t>::max(),
+                                         std::numeric_limits<std::int32_t>::min(), -3}));
+  EXPECT_EQ(texel(unsigned_texture, std::uint32_t{}), (std::array<std::uint32_t, 4>{0, 0xffffffffu, 0, 0}));
+  // The last two: the largest floats below 2^31 and 2^32.
+  framebuffer.clear_color({inf, -1e10f, 2147483520.0f, 4294967040.0f});
+  EXPECT_EQ(texel(signed_texture, std::int32_t{}),
+            (std::array<std::int32_t, 4>{std::numeric_limits<std::int32_t>::max(),
+                                         std::numeric_limits<std::int32_t>::min(), 2147483520,
+                                         std::numeric_limits<std::int32_t>::max()}));
+  EXPECT_EQ(texel(unsigned_texture, std::uint32_t{}),
+            (std::array<std::uint32_t, 4>{0xffffffffu, 0, 2147483520u, 4294967040u}));
 }
 
 }  // namespace

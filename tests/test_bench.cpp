@@ -177,6 +177,7 @@ TEST(BenchScenes, TexturedKnotIsDrawnAsLlvmpipeDrawsIt) {
   const SceneRun run = run_scene(textured, options);
   EXPECT_TRUE(run.result.passed) << "coverage mismatch " << run.result.comparison.coverage_mismatch
                                  << ", colour mismatch " << run.result.comparison.colour_mismatch;
+  EXPECT_TRUE(test::images_match(run.clraster_picture, run.gl_picture, kTolerance));  // leaves the pictures
   EXPECT_EQ(test::covered_pixel_count(run.clraster_picture), test::covered_pixel_count(draw_small(plain)));
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/mat4x4.hpp>
@@ -108,14 +109,21 @@ TEST(FitCamera, DirectionPlanesAndUp) {
 }
 
 TEST(FitCamera, DegenerateSpheres) {
+  // From 1.1 radii over the sine of the half field of view (the vertical one at aspect 1), near and
+  // far 1.05 radii before and behind the centre.
+  const double inverse_sine = 1 / std::sin(22.5 * std::numbers::pi / 180);
   // A single point: framed as a unit sphere around it.
   const Camera point = fit_camera({{5, -1, 2}, 0}, 1);
   EXPECT_NO_THROW(validate_camera(point));
   EXPECT_EQ(point.target, glm::vec3(5, -1, 2));
-  EXPECT_GT(point.near_plane, 0);
-  // Tiny: the near plane stays a thousandth of the distance in front of the eye.
+  EXPECT_NEAR(glm::distance(point.eye, point.target), 1.1 * inverse_sine, 1e-5);
+  EXPECT_NEAR(point.near_plane, 1.1 * inverse_sine - 1.05, 1e-5);
+  EXPECT_NEAR(point.far_plane, 1.1 * inverse_sine + 1.05, 1e-5);
+  // Tiny: framed as it is, however small.
   const Camera tiny = fit_camera({{0, 0, 0}, 1e-3f}, 1);
   EXPECT_NO_THROW(validate_camera(tiny));
+  EXPECT_NEAR(glm::distance(tiny.eye, tiny.target), 1.1e-3 * inverse_sine, 1e-8);
+  EXPECT_NEAR(tiny.near_plane, 1.1e-3 * inverse_sine - 1.05e-3, 1e-8);
   EXPECT_THROW(fit_camera({{0, 0, 0}, 3e38f}, 1), InvalidArgument);
   EXPECT_THROW(fit_camera({{0, 0, 0}, 1}, 0), InvalidArgument);
   EXPECT_THROW(fit_camera({{0, 0, 0}, 1}, 1, 180), InvalidArgument);

@@ -88,6 +88,29 @@ TEST(Chunking, ChunkedDrawsKeepThePrimitiveOrder) {
   EXPECT_TRUE(images_match(chunked.image, render(shared_context(), scene).image, kExact));
 }
 
+// Under the smallest cap with the smallest tiles, a chunk of many primitives leaves little room for
+// bin pairs, while one primitive across the near and far planes is clipped into three triangles that
+// each cover most of the picture's tiles. Each raster batch takes whole primitives, so the plan
+// keeps room for the most bin pairs one primitive can make (a tile for each of its clipped
+// triangles): the draw neither stalls nor drops it, and draws what one piece draws.
+TEST(Chunking, ScreenCoveringClippedPrimitivesUnderTheSmallestCapMatchOnePiece) {
+  constexpr int kBigWidth = 1920, kBigHeight = 1080;
+  io::Mesh crossing;
+  crossing.positions = {-3, -3, -3, 3, -3, 3, 0, 4, 0, 3, 3, -3, -3, 3, 3, 0, -4, 0};
+  crossing.normals = {1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 1, 1, 0};
+  crossing.indices = {0, 1, 2, 3, 4, 5};
+  Scene scene = pile_of_triangles();
+  scene.mesh = io::merge({crossing, scene.mesh, crossing});
+
+  Context small_tiles(ContextOptions{.memory_cap = kMinMemoryCap, .tile_size = 8});
+  const RenderResult chunked = render_clraster(small_tiles, scene.mesh, scene.state, kBigWidth, kBigHeight);
+  const RenderResult whole = render_clraster(shared_context(), scene.mesh, scene.state, kBigWidth, kBigHeight);
+  EXPECT_GT(chunked.stats.chunks, 1u);
+  EXPECT_LE(chunked.stats.peak_memory_bytes, kMinMemoryCap);
+  EXPECT_EQ(chunked.stats.triangles, scene.mesh.triangle_count());
+  EXPECT_TRUE(images_match(chunked.image, whole.image, kExact));
+}
+
 TEST(Determinism, TheSameRenderTwiceInOneProcessIsBitIdentical) {
   for (const Scene& scene : {landscape(708), pile_of_triangles()}) {
     const Image first = render(shared_context(), scene).image;

@@ -222,6 +222,9 @@ TEST(CliRender, GlBackendAgreesWithClraster) {
   const json comparison = json::parse(compared.out);
   EXPECT_LE(comparison.at("coverage_mismatch").get<double>(), kNormalShading.max_coverage_mismatch) << comparison;
   EXPECT_LE(comparison.at("colour_mismatch").get<double>(), kNormalShading.max_colour_mismatch) << comparison;
+  // The same judgement in the test's own comparison, which leaves the pictures and their difference
+  // behind when it fails.
+  EXPECT_TRUE(images_match(ours.picture, gl.picture, kNormalShading));
 }
 
 TEST(CliCompare, ReportsTheDifferencesAsJson) {
@@ -318,8 +321,8 @@ TEST(CliBench, TableHasARowPerSceneAndWritesThePictures) {
 
 // Runs `clraster render --output <an existing file> args...` and checks that it is rejected with a
 // "clraster: error:" line mentioning `subject`, and that the existing file keeps its bytes.
-void expect_render_rejected(const std::vector<std::string>& args, std::string_view subject,
-                            const std::map<std::string, std::string>& env = {}) {
+CliResult expect_render_rejected(const std::vector<std::string>& args, std::string_view subject,
+                                 const std::map<std::string, std::string>& env = {}) {
   const std::string sentinel = "an earlier picture, which a failed render must leave alone\n";
   const fs::path output = write_scratch_file("existing.png", sentinel);
   std::vector<std::string> command{"render", "--output", output.string()};
@@ -327,6 +330,7 @@ void expect_render_rejected(const std::vector<std::string>& args, std::string_vi
   const CliResult result = run_cli(command, env);
   EXPECT_TRUE(failed_with_error(result, subject));
   EXPECT_TRUE(read_file(output) == sentinel) << "the failed render changed " << output;
+  return result;
 }
 
 TEST(CliBadInput, UnknownCommandIsNamed) {
@@ -369,41 +373,50 @@ struct BadOption {
 class RejectedRenderOption : public ::testing::TestWithParam<BadOption> {};
 
 TEST_P(RejectedRenderOption, WithAClearMessage) {
-  expect_render_rejected(GetParam().args, GetParam().subject);
+  const CliResult result = expect_render_rejected(GetParam().args, GetParam().subject);
+  // The message from its start: the subject is the whole of it, or all but a count the machine gives
+  // (devices) or the list CLI11 prints.
+  EXPECT_TRUE(result.err.starts_with("clraster: error: " + std::string(GetParam().subject))) << result.err;
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Options, RejectedRenderOption,
     ::testing::Values(
-        BadOption{"SizeOfZeroWidth", {"--size", "0x10"}, "0x10"},
-        BadOption{"SizeTooWide", {"--size", "16385x10"}, "16385x10"},
-        BadOption{"SizeOfNegativeHeight", {"--size", "10x-1"}, "10x-1"},
-        BadOption{"SizeThatIsNotNumbers", {"--size", "abc"}, "abc"},
-        BadOption{"SizeWithAWidthOverflowingInt", {"--size", "4294967306x10"}, "4294967306x10"},
-        BadOption{"FovZero", {"--fov", "0"}, "fov"},
-        BadOption{"Fov180", {"--fov", "180"}, "fov"},
-        BadOption{"FovNegative", {"--fov", "-5"}, "-5"},
-        BadOption{"FovNegativeJoined", {"--fov=-5"}, "-5"},
-        BadOption{"FovNotANumber", {"--fov", "wide"}, "wide"},
-        BadOption{"NearZero", {"--near", "0"}, "near"},
-        BadOption{"NearNegative", {"--near", "-2.5"}, "-2.5"},
-        BadOption{"FarEqualToNear", {"--near", "5", "--far", "5"}, "far"},
-        BadOption{"FarBelowNear", {"--near", "5", "--far", "0.25"}, "0.25"},
-        BadOption{"EyeOfTwoNumbers", {"--eye", "1,2"}, "1,2"},
-        BadOption{"EyeOfLetters", {"--eye", "a,b,c"}, "a,b,c"},
-        BadOption{"EyeOfFourNumbers", {"--eye", "1,2,3,4"}, "1,2,3,4"},
-        BadOption{"TargetWithAnEmptyNumber", {"--target", "1,,3"}, "1,,3"},
-        BadOption{"UpOfTwoNumbers", {"--up", "0,1"}, "--up"},
-        BadOption{"EyeAtTheTarget", {"--eye", "-1,-2,-3", "--target=-1,-2,-3"}, "eye"},
-        BadOption{"UpAlongTheViewDirection", {"--eye", "0,0,5", "--target", "0,0,0", "--up", "0,0,1"}, "up"},
-        BadOption{"ShadingUnknown", {"--shading", "phong"}, "phong"},
-        BadOption{"CullUnknown", {"--cull", "sideways"}, "sideways"},
-        BadOption{"BackendUnknown", {"--backend", "vulkan"}, "vulkan"},
-        BadOption{"TileSizeUnsupported", {"--tile-size", "12"}, "12"},
-        BadOption{"MemoryCapBelowTheMinimum", {"--memory-cap", "3"}, "--memory-cap"},
-        BadOption{"FramesNegative", {"--frames", "-1"}, "--frames"},
-        BadOption{"DeviceNegative", {"--device", "-1"}, "--device"},
-        BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "1000"}),
+        BadOption{"SizeOfZeroWidth", {"--size", "0x10"}, "--size 0x10 is out of range: each side must be 1..16384"},
+        BadOption{"SizeTooWide", {"--size", "16385x10"}, "--size 16385x10 is out of range: each side must be 1..16384"},
+        BadOption{"SizeOfNegativeHeight", {"--size", "10x-1"}, "--size 10x-1 is out of range: each side must be 1..16384"},
+        BadOption{"SizeThatIsNotNumbers", {"--size", "abc"}, "--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got 'abc'"},
+        BadOption{"SizeWithAWidthOverflowingInt", {"--size", "4294967306x10"},
+                  "--size 4294967306x10 is out of range: each side must be 1..16384"},
+        BadOption{"FovZero", {"--fov", "0"}, "camera: fov_degrees must be in (0, 180), got 0"},
+        BadOption{"Fov180", {"--fov", "180"}, "camera: fov_degrees must be in (0, 180), got 180"},
+        BadOption{"FovNegative", {"--fov", "-5"}, "camera: fov_degrees must be in (0, 180), got -5"},
+        BadOption{"FovNegativeJoined", {"--fov=-5"}, "camera: fov_degrees must be in (0, 180), got -5"},
+        BadOption{"FovNotANumber", {"--fov", "wide"}, "Could not convert: --fov = wide"},
+        BadOption{"NearZero", {"--near", "0"}, "camera: near_plane must be greater than 0, got 0"},
+        BadOption{"NearNegative", {"--near", "-2.5"}, "camera: near_plane must be greater than 0, got -2.5"},
+        BadOption{"FarEqualToNear", {"--near", "5", "--far", "5"},
+                  "camera: far_plane must be greater than near_plane (5), got 5"},
+        BadOption{"FarBelowNear", {"--near", "5", "--far", "0.25"},
+                  "camera: far_plane must be greater than near_plane (5), got 0.25"},
+        BadOption{"EyeOfTwoNumbers", {"--eye", "1,2"}, "--eye: expected three numbers X,Y,Z, got '1,2'"},
+        BadOption{"EyeOfLetters", {"--eye", "a,b,c"}, "--eye: expected three numbers X,Y,Z, got 'a,b,c'"},
+        BadOption{"EyeOfFourNumbers", {"--eye", "1,2,3,4"}, "--eye: expected three numbers X,Y,Z, got '1,2,3,4'"},
+        BadOption{"TargetWithAnEmptyNumber", {"--target", "1,,3"}, "--target: expected three numbers X,Y,Z, got '1,,3'"},
+        BadOption{"UpOfTwoNumbers", {"--up", "0,1"}, "--up: expected three numbers X,Y,Z, got '0,1'"},
+        BadOption{"EyeAtTheTarget", {"--eye", "-1,-2,-3", "--target=-1,-2,-3"},
+                  "camera: eye and target are the same point (-1, -2, -3)"},
+        BadOption{"UpAlongTheViewDirection", {"--eye", "0,0,5", "--target", "0,0,0", "--up", "0,0,1"},
+                  "camera: up (0, 0, 1) is zero or parallel to the view direction (0, 0, -5)"},
+        // CLI11's own wording for values outside a list or range.
+        BadOption{"ShadingUnknown", {"--shading", "phong"}, "--shading: Check phong value in"},
+        BadOption{"CullUnknown", {"--cull", "sideways"}, "--cull: Check sideways value in"},
+        BadOption{"BackendUnknown", {"--backend", "vulkan"}, "--backend: Check vulkan value in"},
+        BadOption{"TileSizeUnsupported", {"--tile-size", "12"}, "--tile-size: 12 not in {8,16,32}"},
+        BadOption{"MemoryCapBelowTheMinimum", {"--memory-cap", "3"}, "--memory-cap: Value 3 not in range 4 to 1048576"},
+        BadOption{"FramesNegative", {"--frames", "-1"}, "--frames: Value -1 not in range 0 to 100000"},
+        BadOption{"DeviceNegative", {"--device", "-1"}, "--device: Value -1 not in range 0 to 1048576"},
+        BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "no OpenCL device 1000: this machine has "}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // A program declaring `declarations`, whose functions use none of them but the output `color`, for

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numeric>
 #include <random>
 
@@ -355,6 +356,33 @@ __kernel void test_record_sizes(__global uint* out) {
     EXPECT_EQ(sizes[0], program::setup_triangle_bytes(parsed));
     EXPECT_EQ(sizes[1], program::shaded_vertex_bytes(parsed));
   }
+}
+
+// The structs the host fills and the kernels read (types.h): the device compiler's sizes, and the
+// offsets of the fields after the nested arrays of structs, are the host's.
+TEST_F(KernelTest, SharedStructsHaveTheHostsLayout) {
+  const char* const layouts_kernel = R"CLC(
+__kernel void test_shared_layouts(__global uint* out) {
+  out[0] = sizeof(TextureDesc);
+  out[1] = sizeof(BlendUniforms);
+  out[2] = sizeof(StencilUniforms);
+  out[3] = sizeof(DrawUniforms);
+  out[4] = sizeof(AttributeDesc);
+  out[5] = sizeof(SlotMap);
+  out[6] = __builtin_offsetof(DrawUniforms, blend);
+  out[7] = __builtin_offsetof(DrawUniforms, stencil);
+  out[8] = __builtin_offsetof(DrawUniforms, clear_color);
+  out[9] = __builtin_offsetof(DrawUniforms, streaming_stores);
+}
+)CLC";
+  program_ = build_test_program("shared layouts", builtin_stage_program() + layouts_kernel);
+  cl::Buffer out = buffer(std::vector<cl_uint>(10));
+  run_single("test_shared_layouts", out);
+  EXPECT_EQ(read<cl_uint>(out, 10),
+            (std::vector<cl_uint>{sizeof(TextureDesc), sizeof(BlendUniforms), sizeof(StencilUniforms),
+                                  sizeof(DrawUniforms), sizeof(AttributeDesc), sizeof(SlotMap),
+                                  offsetof(DrawUniforms, blend), offsetof(DrawUniforms, stencil),
+                                  offsetof(DrawUniforms, clear_color), offsetof(DrawUniforms, streaming_stores)}));
 }
 
 TEST(Rasterization, PixelCentresOnEdgesFollowTheLeftBottomRule) {

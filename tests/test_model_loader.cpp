@@ -878,6 +878,7 @@ TEST(LoadModel, TexturesEmbeddedAsRawTexelsAreLeftOutWithAWarning) {
   const Model model = load_model((kModels / "MDL/MDL (HL1)/man.mdl").string(), warnings);
   EXPECT_TRUE(warnings.empty());  // those are about the geometry
   const std::vector<std::string>& material_warnings = model.material_warnings;
+  ASSERT_EQ(model.materials.size(), 3u);  // man.mdl's three skins
   ASSERT_EQ(material_warnings.size(), model.materials.size());
   for (std::size_t m = 0; m < model.materials.size(); ++m) {
     const Material& material = model.materials[m];

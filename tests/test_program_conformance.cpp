@@ -156,6 +156,7 @@ void fragment(clr_fragment* f) { f->out.color = (float4)(f->in.uv, 0.0f, 1.0f); 
   FramebufferPair target(kPictureSize, kPictureSize, {Format::RGBA32F});
   target.clear({0, 0, 0, 0});
   target.draw(program, ground_draw());
+  ASSERT_TRUE(drawn(target.color(0)));
   EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 1e-4}));
 }
 
@@ -185,6 +186,7 @@ void fragment(clr_fragment* f) { f->out.color = (float4)(f->frag_coord.z, f->fra
     draw.attributes.resize(1);  // the position
     draw.state.depth_test = depth_test;
     target.draw(program, draw);
+    EXPECT_TRUE(drawn(target.color(0)));
     EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 2e-6}));
   }
 }
@@ -205,6 +207,7 @@ TEST(Interpolation, LevelOfDetailMatchesOpenGlPerQuad) {
   FramebufferPair target(kPictureSize, kPictureSize, {Format::R32F});
   target.clear({-1, 0, 0, 1});
   target.draw(program, ground_draw());
+  ASSERT_TRUE(drawn(target.color(0)));
   EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 0.001}));
 }
 
@@ -235,6 +238,7 @@ TEST_P(TextureSampling, MatchesOpenGl) {
   FramebufferPair target(kPictureSize, kPictureSize, {Format::RGBA32F});
   target.clear({1, 0, 1, 1});  // magenta where the ground would not be drawn
   target.draw(program, ground_draw());
+  ASSERT_TRUE(drawn(target.color(0)));
   EXPECT_TRUE(texels_match(target.color(0), {.tolerance = kFilterTolerance, .min_fraction = kFilterMinFraction}));
 }
 
@@ -528,7 +532,10 @@ TEST_P(FramebufferFetch, MatchesExtShaderFramebufferFetch) {
     program.set("tint", tint);
     target.draw(program, draw);
   }
-  for (int k = 0; k < 2; ++k) EXPECT_TRUE(texels_match(target.color(k), {.tolerance = c.tolerance})) << "attachment " << k;
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(drawn(target.color(k))) << "attachment " << k;
+    EXPECT_TRUE(texels_match(target.color(k), {.tolerance = c.tolerance})) << "attachment " << k;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, FramebufferFetch,
@@ -613,6 +620,7 @@ TEST_P(ProgrammableBlend, MatchesKhrBlendEquationAdvanced) {
   draw.gl_state->blend[0] = BlendState{};
   draw.gl_advanced_blend = c.equation;
   target.draw(blended, draw);
+  ASSERT_TRUE(drawn(target.color(0)));
   EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 1.0 / 255}));
 }
 
@@ -681,6 +689,7 @@ TEST(ProgrammableDepth, ReversedComparisonMatchesGlGreater) {
   draw.gl_state = state;
   draw.gl_state->depth_func = CompareFunc::Greater;
   target.draw(program, draw);
+  ASSERT_TRUE(drawn(target.color(0)));
   EXPECT_TRUE(texels_match(target.color(0), {.tolerance = 0}));
   EXPECT_TRUE(texels_match(*target.depth_stencil(), {.tolerance = 0}));
 }

@@ -6,6 +6,8 @@
 #include "support/error_expectations.hpp"
 #include "support/test_support.hpp"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -61,9 +63,19 @@ class ProgramErrors : public ::testing::Test {
   DrawCall call_;
 };
 
+// What gives the checks below their meaning: with everything bound, the draw renders. Inside the
+// triangle, the white texel plus the palette's first entry, clamped: white; around it, the clear
+// colour (0.25, 0.5, 0.75, 1) as bytes.
 TEST_F(ProgramErrors, TheCompleteDrawRenders) {
   framebuffer_.draw(call_);
-  EXPECT_NE(framebuffer_.read_color().rgba[4 * (4 * 8 + 4)], 64);  // the centre pixel changed
+  const Image image = framebuffer_.read_color();
+  const auto pixel = [&](int x, int y) {
+    const std::size_t at = 4 * (static_cast<std::size_t>(y) * 8 + x);
+    return std::array{image.rgba[at], image.rgba[at + 1], image.rgba[at + 2], image.rgba[at + 3]};
+  };
+  EXPECT_EQ(pixel(4, 4), (std::array<std::uint8_t, 4>{255, 255, 255, 255}));
+  EXPECT_EQ(pixel(0, 0), (std::array<std::uint8_t, 4>{64, 128, 191, 255}));
+  EXPECT_EQ(pixel(7, 7), (std::array<std::uint8_t, 4>{64, 128, 191, 255}));
 }
 
 TEST_F(ProgramErrors, BindingANameTheProgramDoesNotDeclare) {

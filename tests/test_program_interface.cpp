@@ -158,6 +158,9 @@ TEST(ProgramInterface, MalformedDeclarationsNameFileLineAndProblem) {
   EXPECT_EQ(parse_error(with_entry_points("clr_uniform(float, 2x)\n")), "user.cl:1: uniform name '2x' is not an identifier");
   EXPECT_EQ(parse_error(with_entry_points("clr_uniform(float, big[100000])\n")),
             "user.cl:1: uniform array 'big' needs 1 to 65536 elements");
+  // More digits than an unsigned long holds: the same error, not an exception of another kind.
+  EXPECT_EQ(parse_error(with_entry_points("clr_uniform(float, huge[99999999999999999999999])\n")),
+            "user.cl:1: uniform array 'huge' needs 1 to 65536 elements");
   EXPECT_EQ(parse_error("void fragment(clr_fragment* f) {}\n"),
             "user.cl:1: the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
   EXPECT_EQ(parse_error("void vertex(clr_vertex* v) {}\n"),

@@ -584,6 +584,7 @@ TEST_P(DepthFunctionTest, SurfacesInPerspectiveMatchGl) {
   program.set("mvp", perspective_mvp({1.5f, 2.0f, 3.0f}, 1.0f));
   target.draw(first.draw(program, {}));
   target.draw(second.draw(program, tested()));
+  EXPECT_GE(distinct_texels(target.color(0).gl.read(), 4), 2u);  // the clear and the ground at least
   EXPECT_TRUE(target.color_matches(0));
   EXPECT_TRUE(target.depth_matches(kInterpolatedDepthTolerance));
 }
@@ -608,6 +609,7 @@ TEST_P(DepthFunctionTest, ProgramDepthsMatchGlExactly) {
   target.draw(first.draw(program, always));
   program.set("depth_plane", Rgba{0, 1.0f / kSize, 0, 1});
   target.draw(second.draw(program, tested()));
+  EXPECT_GT(distinct_texels(target.depth_stencil()->gl.read(), 4), 1u);  // depth 1 everywhere if nothing was drawn
   EXPECT_TRUE(target.matches());
 }
 
@@ -1591,6 +1593,7 @@ TEST_P(ViewportTest, PerspectiveSurfacesMatchGl) {
   state.scissor_test = c.scissor_test;
   state.scissor = c.scissor;
   target.draw(scene.draw(program, state));
+  EXPECT_GE(distinct_texels(target.color(0).gl.read(), 4), 3u);  // the clear, the ground and the quad at least
   EXPECT_TRUE(target.color_matches(0));
   EXPECT_TRUE(target.depth_matches(kInterpolatedDepthTolerance));
 }

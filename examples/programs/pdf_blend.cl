@@ -34,6 +34,7 @@ float4 blend(clr_fragment* f, uint target, float4 source, float4 destination) {
     case MODE_OVERLAY: return clr_blend_overlay(source, destination);
     case MODE_DARKEN: return clr_blend_darken(source, destination);
     case MODE_COLORDODGE: return clr_blend_colordodge(source, destination);
-    default: return clr_blend_difference(source, destination);
+    case MODE_DIFFERENCE: return clr_blend_difference(source, destination);
+    default: return source; /* no such mode: the disc as it is */
   }
 }

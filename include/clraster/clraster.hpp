@@ -93,6 +93,7 @@ inline constexpr std::size_t kMinMemoryCap = std::size_t{4} << 20;
 inline constexpr int kDeviceTileSize = 0;
 inline constexpr int kCpuShapeTileSize = 32;
 inline constexpr int kGpuShapeTileSize = 16;
+inline constexpr std::array<int, 3> kTileSizes = {8, 16, 32};  // what ContextOptions::tile_size may be besides
 
 // How many work-items the pipeline's kernels put in a work-group. Device: the device's own shapes
 // (on GPUs a work-item per pixel of a tile and 256 per block of a scan or sort; on CPUs one
@@ -252,6 +253,7 @@ struct Sampler {
 };
 
 inline constexpr int kMaxTextureSize = 16384;
+inline constexpr int kMaxFramebufferSize = 16384;  // pixels per side of a framebuffer (its attachments' level 0)
 inline constexpr int kFullMipChain = 0;
 
 class Texture {
@@ -352,6 +354,9 @@ class Program {
   // malformed interface declaration.
   Program(Context& context, std::string source, std::string file_name = "program.cl");
   static Program load(Context& context, const std::string& path);
+  // The text of the program file at `path`, as load reads it. Throws InvalidArgument when it cannot
+  // be opened or read.
+  static std::string read_source(const std::string& path);
   // What `source` declares, read without compiling it (a build takes seconds; this, microseconds),
   // for tools that check a program before they build it. Throws InvalidArgument for a malformed
   // declaration, as the constructor does.
@@ -596,7 +601,8 @@ class Framebuffer {
   Texture* depth_stencil();             // null when there is none
 
   // Clears every colour attachment (normalized and float ones to `color`; integer ones to the
-  // truncated values), depth (clamped to [0, 1]) and stencil.
+  // values truncated toward zero and saturated to the format's range, NaN as 0), depth (clamped to
+  // [0, 1]) and stencil.
   void clear(std::array<float, 4> color, float depth = 1.0f, std::uint8_t stencil = 0);
   void clear_color(std::array<float, 4> color);                        // every colour attachment
   void clear_color(int index, std::array<float, 4> color);

@@ -2,6 +2,7 @@
 #include "cl/kernel_sources.hpp"
 #include "clr_limits.h"
 
+#include <algorithm>
 #include <string>
 
 namespace clraster {
@@ -21,8 +22,8 @@ void check_options(const ContextOptions& options) {
     throw InvalidArgument("memory cap of " + std::to_string(options.memory_cap) + " bytes is below the minimum of " +
                           std::to_string(kMinMemoryCap) + " bytes");
   }
-  if (options.tile_size != kDeviceTileSize && options.tile_size != 8 && options.tile_size != 16 &&
-      options.tile_size != 32) {
+  if (options.tile_size != kDeviceTileSize &&
+      std::find(kTileSizes.begin(), kTileSizes.end(), options.tile_size) == kTileSizes.end()) {
     throw InvalidArgument("tile size " + std::to_string(options.tile_size) + " is not 8, 16 or 32 (or " +
                           std::to_string(kDeviceTileSize) + ", the device's choice)");
   }
@@ -37,14 +38,17 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
       queue(cl::CommandQueue(context, device.device, options.profile ? CL_QUEUE_PROFILING_ENABLE : 0), options.profile),
       programs(context, device, options.cache_dir) {
   if (options.tile_size == kDeviceTileSize) options.tile_size = cpu_shapes() ? kCpuShapeTileSize : kGpuShapeTileSize;
-  // With the GPU shapes, quad shading takes a work-item per pixel of a tile (raster.cl).
+  // The largest work-group the shapes make (clr_limits.h): a tile's, a work-item per pixel with the
+  // GPU shapes; else a scan block's or the kernels' of one work-item per element.
   const std::size_t group_limit = device.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
-  const auto tile_pixels = static_cast<std::size_t>(options.tile_size * options.tile_size);
-  const std::size_t largest_group = std::max<std::size_t>(tile_pixels, scan_items());
+  const int tile_items =
+      cpu_shapes() ? std::max(CLR_RASTER_CPU_ITEMS, CLR_QUAD_PIXELS) : options.tile_size * options.tile_size;
+  const auto tile_group = static_cast<std::size_t>(tile_items);
+  const std::size_t largest_group = std::max({tile_group, scan_items(), std::size_t{CLR_ITEM_GROUP_SIZE}});
   if (largest_group > group_limit) {
     throw InvalidArgument("device " + device.info.name + " allows work-groups of " + std::to_string(group_limit) +
-                          " work-items; tile size " + std::to_string(options.tile_size) + " needs " +
-                          std::to_string(largest_group));
+                          " work-items; the pipeline's, with tile size " + std::to_string(options.tile_size) +
+                          ", need " + std::to_string(largest_group));
   }
 }
 

@@ -68,7 +68,6 @@ Bindings builtin_bindings(const Program& program, const DrawState& s) {
 void resolve_attributes(const DrawCall& call, const Program::Impl& program, const ContextState& state,
                         pipeline::DrawSource& source) {
   std::vector<VertexAttribute> supplied = call.attributes;
-  std::vector<const Buffer::Impl*> buffers;
   for (const VertexAttribute& a : supplied) {
     if (a.buffer == nullptr) throw InvalidArgument("attribute '" + a.name + "' has no buffer");
     check_same_context(state, a.buffer->impl().state, "the buffer of attribute '" + a.name + "'");

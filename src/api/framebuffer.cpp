@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 namespace clraster {
@@ -103,12 +104,33 @@ void Framebuffer::clear(std::array<float, 4> color, float depth, std::uint8_t st
   clear_stencil(stencil);
 }
 
+namespace {
+
+// A float clear value for an integer attachment (OpenGL leaves it undefined): truncated toward
+// zero, as llvmpipe does, and saturated to the integer's range, NaN as 0, where a plain conversion
+// would be undefined behaviour.
+template <typename Integer>
+std::array<Integer, 4> saturated(std::array<float, 4> color) {
+  constexpr Integer lowest = std::numeric_limits<Integer>::min(), highest = std::numeric_limits<Integer>::max();
+  std::array<Integer, 4> value{};
+  for (std::size_t c = 0; c < 4; ++c) {
+    const float v = color[c];
+    if (std::isnan(v)) value[c] = 0;
+    else if (v <= static_cast<float>(lowest)) value[c] = lowest;
+    else if (v >= static_cast<float>(highest)) value[c] = highest;  // the float is 2^31 or 2^32, past it
+    else value[c] = static_cast<Integer>(v);
+  }
+  return value;
+}
+
+}  // namespace
+
 void Framebuffer::clear_color(std::array<float, 4> color) {
   for (int k = 0; k < color_count(); ++k) {
     const FormatInfo& info = format_info(impl_->colors[static_cast<std::size_t>(k)]->format());
     if (!info.integer) clear_color(k, color);
-    else if (info.is_signed) clear_color_int(k, {static_cast<std::int32_t>(color[0]), static_cast<std::int32_t>(color[1]), static_cast<std::int32_t>(color[2]), static_cast<std::int32_t>(color[3])});
-    else clear_color_uint(k, {static_cast<std::uint32_t>(std::max(color[0], 0.0f)), static_cast<std::uint32_t>(std::max(color[1], 0.0f)), static_cast<std::uint32_t>(std::max(color[2], 0.0f)), static_cast<std::uint32_t>(std::max(color[3], 0.0f))});
+    else if (info.is_signed) clear_color_int(k, saturated<std::int32_t>(color));
+    else clear_color_uint(k, saturated<std::uint32_t>(color));
   }
 }
 

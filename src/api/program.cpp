@@ -105,13 +105,15 @@ Program::Program(Context& context, std::string source, std::string file_name)
     : impl_(compile_program(context.impl().state, source, file_name)) {}
 Program::Program(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
-Program Program::load(Context& context, const std::string& path) {
+Program Program::load(Context& context, const std::string& path) { return Program(context, read_source(path), path); }
+
+std::string Program::read_source(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InvalidArgument("cannot open program file " + path + ": " + std::strerror(errno));
   std::ostringstream text;
   text << file.rdbuf();
   if (file.bad()) throw InvalidArgument("cannot read program file " + path);
-  return Program(context, text.str(), path);
+  return text.str();
 }
 
 ProgramInterface Program::read_interface(const std::string& source, const std::string& file_name) {

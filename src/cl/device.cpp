@@ -59,7 +59,7 @@ std::vector<Device> enumerate_devices() {
       info.driver_version = device.getInfo<CL_DRIVER_VERSION>();
       info.type = type_name(device.getInfo<CL_DEVICE_TYPE>());
       info.compute_units = static_cast<int>(device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
-      result.push_back({platform, device, info});
+      result.push_back({device, info});
     }
   }
   if (result.empty()) throw DeviceError("OpenCL platforms exist but none has a device");

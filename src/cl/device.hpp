@@ -8,7 +8,6 @@
 namespace clraster::cl_host {
 
 struct Device {
-  cl::Platform platform;
   cl::Device device;
   DeviceInfo info;
 };

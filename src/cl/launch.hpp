@@ -17,11 +17,12 @@ inline std::size_t compiled_group_size(const cl::Kernel& kernel) {
   return kernel.getWorkGroupInfo<CL_KERNEL_COMPILE_WORK_GROUP_SIZE>(device)[0];
 }
 
-// Sets every kernel argument in order.
+// Sets the kernel's first arguments in order; returns the index of the next one.
 template <typename... Args>
-void set_args(cl::Kernel& kernel, const Args&... args) {
+cl_uint set_args(cl::Kernel& kernel, const Args&... args) {
   cl_uint index = 0;
   (kernel.setArg(index++, args), ...);
+  return index;
 }
 
 inline std::size_t round_up(std::size_t value, std::size_t multiple) { return (value + multiple - 1) / multiple * multiple; }

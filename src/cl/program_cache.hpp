@@ -24,8 +24,6 @@ class ProgramCache {
   // The built program for this source and these options. Throws BuildError with the compiler's log.
   cl::Program get(const std::string& name, const std::string& source, const std::string& options);
 
-  const std::filesystem::path& directory() const { return directory_; }  // empty when disabled
-
  private:
   cl::Program build_from_source(const std::string& name, const std::string& source, const std::string& options);
   cl::Program load_binary(const std::string& key, const std::string& options);

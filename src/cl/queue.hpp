@@ -18,7 +18,6 @@ class Queue {
   Queue(cl::CommandQueue queue, bool profiling) : queue_(std::move(queue)), profiling_(profiling) {}
 
   cl::CommandQueue& get() { return queue_; }
-  bool profiling() const { return profiling_; }
 
   // Commands enqueued from now on are counted for `stage`.
   void set_stage(Stage stage) { stage_ = stage; }

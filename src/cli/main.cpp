@@ -11,14 +11,18 @@
 #include <charconv>
 #include <limits>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <iostream>
 #include <map>
+#include <vector>
 
 namespace {
 
 using namespace clraster;
 using namespace clraster::cli;
+
+const std::string kSizeHelp = "Picture size WIDTHxHEIGHT, each 1.." + std::to_string(kMaxFramebufferSize);
 
 // One side of --size: an integer (too large to represent counts as too large), else nothing.
 std::optional<long long> parse_side(std::string_view text) {
@@ -30,14 +34,15 @@ std::optional<long long> parse_side(std::string_view text) {
   return value;
 }
 
-// "1920x1080" -> width, height in 1..16384.
+// "1920x1080" -> width, height in 1..kMaxFramebufferSize.
 void parse_size(const std::string& text, int& width, int& height) {
   const std::size_t x = text.find_first_of("xX");
   const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_side(std::string_view(text).substr(0, x));
   const std::optional<long long> h = x == std::string::npos ? std::nullopt : parse_side(std::string_view(text).substr(x + 1));
   if (!w || !h) throw InvalidArgument("--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got '" + text + "'");
-  if (*w < 1 || *h < 1 || *w > 16384 || *h > 16384) {
-    throw InvalidArgument("--size " + text + " is out of range: each side must be 1..16384");
+  if (*w < 1 || *h < 1 || *w > kMaxFramebufferSize || *h > kMaxFramebufferSize) {
+    throw InvalidArgument("--size " + text + " is out of range: each side must be 1.." +
+                          std::to_string(kMaxFramebufferSize));
   }
   width = static_cast<int>(*w);
   height = static_cast<int>(*h);
@@ -52,7 +57,7 @@ void add_context_options(CLI::App* command, int& device, std::size_t& memory_cap
       ->capture_default_str();
   command->add_option("--tile-size", tile_size,
                       "Pixels per tile side: 8, 16 or 32 (default: the device's, 32 on CPUs, 16 on GPUs)")
-      ->check(CLI::IsMember({8, 16, 32}));
+      ->check(CLI::IsMember(std::vector<int>(kTileSizes.begin(), kTileSizes.end())));
 }
 
 // CLI11 takes "-3,1,2" after "--eye" for an option name; joining such a value to its option
@@ -90,7 +95,7 @@ int main(int argc, char** argv) {
   render->add_option("model", render_options.model, "Model file: OBJ, glTF 2.0 (.gltf/.glb), PLY, STL, OFF, ... "
                                                      "(default: the built-in demo scene)");
   render->add_option("-o,--output", render_options.output, "PNG file to write")->required();
-  render->add_option("--size", size, "Picture size WIDTHxHEIGHT, each 1..16384")->capture_default_str();
+  render->add_option("--size", size, kSizeHelp)->capture_default_str();
   render->add_option("--eye", eye, "Camera position X,Y,Z (default: fitted to the scene's bounding sphere)");
   render->add_option("--target", target, "Point the camera looks at X,Y,Z (default: the bounding sphere's centre)");
   render->add_option("--up", up, "Camera up direction X,Y,Z (default: 0,1,0)");
@@ -150,7 +155,7 @@ int main(int argc, char** argv) {
   bench->add_option("--scenes", bench_options.scenes,
                     "Comma-separated scenes to run, of " + bench::scene_names_text() + " (default: all)")
       ->option_text("NAME,...");
-  bench->add_option("--size", bench_size, "Picture size WIDTHxHEIGHT, each 1..16384")->capture_default_str();
+  bench->add_option("--size", bench_size, kSizeHelp)->capture_default_str();
   bench
       ->add_option("--frames", bench_options.frames,
                    "Timed frames of each renderer per scene, after " + std::to_string(bench::kWarmupFrames) +

@@ -1,11 +1,6 @@
 #include "cli/program_contract.hpp"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -103,14 +98,7 @@ ProgramInputs view_inputs(const io::Camera& camera, int width, int height) {
   return inputs;
 }
 
-ProgramSource read_program_file(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InvalidArgument("cannot open program file " + path + ": " + std::strerror(errno));
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw InvalidArgument("cannot read program file " + path);
-  return {text.str(), path};
-}
+ProgramSource read_program_file(const std::string& path) { return {Program::read_source(path), path}; }
 
 void check_contract(const ProgramSource& source) {
   const ProgramInterface interface = Program::read_interface(source.text, source.file_name);

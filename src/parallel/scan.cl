@@ -25,7 +25,7 @@ static inline ulong8 inclusive_scan8(ulong8 v) {
 /* Exclusive scan of one value per work-item across the work-group (CLR_SCAN_GROUP_SIZE items).
  * Returns the item's prefix; *total receives the sum over the group. Hillis-Steele in local memory:
  * log2(group) rounds, every item active, no divergent barriers. */
-uint work_group_exclusive_scan(uint value, __local uint* scratch, uint* total) {
+static uint work_group_exclusive_scan(uint value, __local uint* scratch, uint* total) {
   const uint lid = get_local_id(0);
   scratch[lid] = value;
   barrier(CLK_LOCAL_MEM_FENCE);

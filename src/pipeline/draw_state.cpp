@@ -169,8 +169,6 @@ DrawUniforms make_uniforms(const DrawState& s, const RenderTarget& target, const
   return u;
 }
 
-bool writable_rect_empty(const DrawUniforms& u) { return u.clip_rect[0] >= u.clip_rect[2] || u.clip_rect[1] >= u.clip_rect[3]; }
-
 }  // namespace clraster::pipeline
 
 static_assert(static_cast<int>(clraster::CompareFunc::Less) == CLR_COMPARE_LESS);
@@ -183,3 +181,4 @@ static_assert(static_cast<int>(clraster::Wrap::MirroredRepeat) == CLR_WRAP_MIRRO
 static_assert(static_cast<int>(clraster::MipFilter::Linear) == CLR_MIP_LINEAR);
 static_assert(clraster::kMaxColorAttachments == CLR_MAX_COLOR_ATTACHMENTS);
 static_assert(clraster::kMaxTextureSize == CLR_MAX_TEXTURE_SIZE);
+static_assert(clraster::kMaxFramebufferSize == CLR_MAX_FRAMEBUFFER_SIZE);

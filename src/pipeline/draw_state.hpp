@@ -26,7 +26,4 @@ DrawUniforms make_uniforms(const DrawState& state, const RenderTarget& target, c
 // (CLR_FORMAT_*), or CLR_NOT_COMMON_BLEND: the blends the rasterizer runs with their state compiled in.
 int common_blend(const BlendUniforms& b, int format);
 
-// The pixels a draw may write: framebuffer, viewport and scissor intersected (may be empty).
-bool writable_rect_empty(const DrawUniforms& uniforms);
-
 }  // namespace clraster::pipeline

@@ -64,8 +64,12 @@ MemoryPlan plan_memory(const PlanInput& in) {
   const auto overflow_for = [](std::uint64_t chunk) {
     return std::max<std::uint64_t>(chunk / CLR_OVERFLOW_DIVISOR, CLR_MAX_CLIP_TRIANGLES);
   };
-  // A raster batch must hold a triangle that covers every tile; aim for two pairs per primitive.
-  const auto min_pairs_for = [&](std::uint64_t chunk) { return std::max<std::uint64_t>(in.tile_count, 2 * chunk); };
+  // A raster batch takes whole primitives (Pipeline::bin_and_rasterize), so it must hold the most
+  // bin pairs one primitive makes: each of the triangles clipping leaves of it covering every tile.
+  // Aim for two pairs per primitive.
+  const auto min_pairs_for = [&](std::uint64_t chunk) {
+    return std::max<std::uint64_t>(std::uint64_t{CLR_MAX_CLIP_TRIANGLES} * in.tile_count, 2 * chunk);
+  };
   const auto bytes_for = [&](std::uint64_t chunk, std::uint64_t pairs) {
     return total(buffer_bytes(plan.shade_all_vertices, in, chunk, overflow_for(chunk), pairs));
   };
@@ -73,8 +77,8 @@ MemoryPlan plan_memory(const PlanInput& in) {
   std::uint64_t lo = 1;
   std::uint64_t hi = std::min<std::uint64_t>(std::max(in.primitive_count, 1u), CLR_MAX_CHUNK_PRIMITIVES);
   if (bytes_for(lo, min_pairs_for(lo)) > in.memory_cap) {
-    throw InvalidArgument("memory cap of " + std::to_string(in.memory_cap >> 10) + " KiB cannot hold one triangle's " +
-                          std::to_string(in.tile_count) + " bin entries and the pipeline's buffers (needs " +
+    throw InvalidArgument("memory cap of " + std::to_string(in.memory_cap >> 10) + " KiB cannot hold one primitive's " +
+                          std::to_string(min_pairs_for(lo)) + " bin entries and the pipeline's buffers (needs " +
                           std::to_string((bytes_for(lo, min_pairs_for(lo)) >> 10) + 1) +
                           " KiB): raise the memory cap or the tile size");
   }
@@ -85,10 +89,13 @@ MemoryPlan plan_memory(const PlanInput& in) {
   plan.chunk_primitives = static_cast<std::uint32_t>(lo);
   plan.overflow_capacity = static_cast<std::uint32_t>(overflow_for(lo));
 
-  // Whatever the chunk leaves goes to the bin pairs (each pair: a key and an id, twice, plus scratch).
-  std::uint64_t pairs = (in.memory_cap - bytes_for(lo, 0)) / (4 * sizeof(cl_uint) + 1);
-  pairs = std::min<std::uint64_t>(pairs, 0xffffffffull);
-  while (bytes_for(lo, pairs) > in.memory_cap) pairs -= pairs / 64 + 1;
+  // Whatever the chunk leaves goes to the bin pairs: the most that fit, which the chunk's choice
+  // makes at least min_pairs_for(lo).
+  std::uint64_t pairs = min_pairs_for(lo);
+  for (std::uint64_t most = 0xffffffffull; pairs < most;) {
+    const std::uint64_t mid = pairs + (most - pairs + 1) / 2;
+    if (bytes_for(lo, mid) <= in.memory_cap) pairs = mid; else most = mid - 1;
+  }
   plan.pair_capacity = pairs;
   plan.buffer_bytes = buffer_bytes(plan.shade_all_vertices, in, lo, plan.overflow_capacity, pairs);
   return plan;

@@ -41,7 +41,8 @@ inline std::uint64_t code_groups(std::uint64_t vertices) {
 inline std::uint32_t chunk_blocks(std::uint32_t primitives) { return primitives / CLR_CULL_BLOCK_PRIMITIVES + 2; }
 
 // The plan with the largest chunks that fit. Throws InvalidArgument when the cap cannot hold even
-// one primitive together with the bin pairs of one screen-covering triangle.
+// one primitive together with the most bin pairs one primitive makes (CLR_MAX_CLIP_TRIANGLES
+// screen-covering triangles).
 MemoryPlan plan_memory(const PlanInput& input);
 
 // Stream positions (relative to the draw's first element) that primitives [first, first + count)

@@ -326,6 +326,11 @@ void Pipeline::bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std:
         pairs - pair_base <= frame.plan.pair_capacity
             ? primitives
             : last_offset_within(chunk.pair_offsets, batch_begin, primitives, pairs, pair_base, frame.plan.pair_capacity);
+    // Never: the plan holds the most pairs one primitive makes (memory_plan.cpp). But not a hang.
+    if (batch_end == batch_begin) {
+      throw Error("primitive " + std::to_string(batch_begin) + " of a chunk makes more bin pairs than a raster batch " +
+                  "holds (" + std::to_string(frame.plan.pair_capacity) + ")");
+    }
     const std::uint32_t batch_pairs = read_offset(chunk.pair_offsets, batch_end, primitives, pairs) - pair_base;
     const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
 

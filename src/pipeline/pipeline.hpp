@@ -95,7 +95,6 @@ class Pipeline {
                  const DrawState& state);
 
   parallel::RadixSort& sort() { return sort_; }
-  std::size_t peak_memory_bytes() const { return scratch_.peak_bytes(); }
 
  private:
   // What every step of one draw needs.

@@ -14,7 +14,7 @@ std::size_t varying_float_count(const ParsedProgram& p) { return std::max<std::s
 
 const char* const kComponent[] = {".s0", ".s1", ".s2", ".s3"};
 
-// Member `name` of `object`, component c of `components` (scalars have none).
+// Component c of `access`, a value of `components` components (scalars have none: `access` itself).
 std::string component(const std::string& access, int components, int c) {
   return components == 1 ? access : access + kComponent[c];
 }

@@ -3,11 +3,13 @@
 //   generated constants (varying and output counts, quad shading, early tests)
 //   clr_limits.h, types.h, texel formats, texture sampling, fragment operations, blend modes
 //   generated interface: clr_attributes, clr_varyings, clr_uniforms, clr_textures, clr_buffers,
-//     clr_outputs, clr_vertex, clr_fragment, the resource kernel parameters, glue prototypes
+//     clr_outputs, clr_vertex, clr_fragment, the resource kernel parameters, the attribute fetch
+//     (CLR_FETCH_ATTRIBUTES), glue prototypes
 //   program/prelude.cl: what programs call (clr_mul, derivatives, clr_sample, clr_discard, ...)
 //   #line 1 "<user file>" + the user's source, so compiler messages name the user's lines
 //   the stage kernels: vertex.cl ... raster.cl
-//   generated glue: attribute fetch, varying packing and interpolation, output merging
+//   generated glue: varyings packed into floats and back (raster.cl interpolates the floats), the
+//     program's depth test and blend function called, outputs gathered and merged into the tile
 #pragma once
 
 #include "program/interface.hpp"
@@ -20,8 +22,9 @@ std::string generate_stage_program(const ParsedProgram& program, const std::stri
                                    const std::string& file_name);
 
 // Whether the depth and stencil tests may run before the fragment program: it neither discards nor
-// writes depth (OpenGL's early fragment tests), and it is not shaded in quads (whose helper
-// invocations must run the program whatever the tests say).
+// writes depth (OpenGL's early fragment tests), and it is not a per-fragment program shaded in
+// quads (whose quads run the program for every pixel whatever the tests say; a span program shaded
+// in quads tests first, and runs for its whole spans anyway).
 bool early_fragment_tests(const ParsedProgram& program);
 
 // Bytes the vertex stage stores per vertex, and one set-up triangle's record, for this program.

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <initializer_list>
 #include <map>
 #include <regex>
 #include <set>
+#include <system_error>
 
 namespace clraster::program {
 namespace {
@@ -229,8 +231,13 @@ class Parser {
     std::smatch match;
     if (std::regex_match(v.name, match, array)) {
       v.name = match[1];
-      const unsigned long size = std::stoul(match[2]);
-      if (size < 1 || size > 65536) fail(v.line, "uniform array '" + v.name + "' needs 1 to 65536 elements");
+      // Digits of any length: from_chars reports a count past unsigned long instead of throwing.
+      const std::string digits = match[2];
+      unsigned long size = 0;
+      const std::errc error = std::from_chars(digits.data(), digits.data() + digits.size(), size).ec;
+      if (error != std::errc() || size < 1 || size > 65536) {
+        fail(v.line, "uniform array '" + v.name + "' needs 1 to 65536 elements");
+      }
       v.array_size = static_cast<int>(size);
     }
     std::size_t size = 0;

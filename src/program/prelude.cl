@@ -107,36 +107,36 @@ static inline void clr_span_quad_difference(clr_span_fragment* f, clr_span_float
 #endif
 
 #define CLR_DERIVATIVE(name, axis, coarse)                                                                      \
-  __attribute__((overloadable)) inline float name(clr_fragment* f, float v) {                                   \
+  static __attribute__((overloadable)) inline float name(clr_fragment* f, float v) {                            \
     return clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v, 0.0f, 0.0f, 0.0f), axis, coarse).x;       \
   }                                                                                                              \
-  __attribute__((overloadable)) inline float2 name(clr_fragment* f, float2 v) {                                 \
+  static __attribute__((overloadable)) inline float2 name(clr_fragment* f, float2 v) {                          \
     return clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v, 0.0f, 0.0f), axis, coarse).xy;            \
   }                                                                                                              \
-  __attribute__((overloadable)) inline float3 name(clr_fragment* f, float3 v) {                                 \
+  static __attribute__((overloadable)) inline float3 name(clr_fragment* f, float3 v) {                          \
     return clr_quad_difference(f->clr_quad, f->clr_lane, (float4)(v, 0.0f), axis, coarse).xyz;                 \
   }                                                                                                              \
-  __attribute__((overloadable)) inline float4 name(clr_fragment* f, float4 v) {                                 \
+  static __attribute__((overloadable)) inline float4 name(clr_fragment* f, float4 v) {                          \
     return clr_quad_difference(f->clr_quad, f->clr_lane, v, axis, coarse);                                      \
   }                                                                                                              \
-  __attribute__((overloadable)) inline clr_span_float name(clr_span_fragment* f, clr_span_float v) {            \
+  static __attribute__((overloadable)) inline clr_span_float name(clr_span_fragment* f, clr_span_float v) {     \
     clr_span_float4 d = {v, 0.0f, 0.0f, 0.0f};                                                                  \
     clr_span_quad_difference(f, &d, axis, coarse);                                                              \
     return d.x;                                                                                                 \
   }                                                                                                              \
-  __attribute__((overloadable)) inline clr_span_float2 name(clr_span_fragment* f, clr_span_float2 v) {          \
+  static __attribute__((overloadable)) inline clr_span_float2 name(clr_span_fragment* f, clr_span_float2 v) {   \
     clr_span_float4 d = {v.x, v.y, 0.0f, 0.0f};                                                                 \
     clr_span_quad_difference(f, &d, axis, coarse);                                                              \
     const clr_span_float2 result = {d.x, d.y};                                                                  \
     return result;                                                                                              \
   }                                                                                                              \
-  __attribute__((overloadable)) inline clr_span_float3 name(clr_span_fragment* f, clr_span_float3 v) {          \
+  static __attribute__((overloadable)) inline clr_span_float3 name(clr_span_fragment* f, clr_span_float3 v) {   \
     clr_span_float4 d = {v.x, v.y, v.z, 0.0f};                                                                  \
     clr_span_quad_difference(f, &d, axis, coarse);                                                              \
     const clr_span_float3 result = {d.x, d.y, d.z};                                                             \
     return result;                                                                                              \
   }                                                                                                              \
-  __attribute__((overloadable)) inline clr_span_float4 name(clr_span_fragment* f, clr_span_float4 v) {          \
+  static __attribute__((overloadable)) inline clr_span_float4 name(clr_span_fragment* f, clr_span_float4 v) {   \
     clr_span_quad_difference(f, &v, axis, coarse);                                                              \
     return v;                                                                                                   \
   }

@@ -122,7 +122,7 @@ CLR_INLINE uint4 clr_float_to_unorm8(float4 x) { return convert_uint4_rte(fmin(f
 
 /* OpenGL's linear to sRGB encoding, before the unorm8 conversion (which clamps what is below 0 or
  * above 1, and NaN). */
-float4 clr_linear_to_srgb(float4 linear) {
+static float4 clr_linear_to_srgb(float4 linear) {
   return select(1.055f * powr(linear, 1.0f / 2.4f) - 0.055f, 12.92f * linear, linear < 0.0031308f);
 }
 
@@ -199,7 +199,7 @@ CLR_INLINE float4 clr_quantize_float(int format, float4 value) {
 
 /* Integer formats hold 32-bit words: a signed load or store is an unsigned one reinterpreted (and a
  * signed access of an unsigned format, which OpenGL leaves undefined, reinterprets the words too). */
-uint4 clr_load_texel_uint(int format, __global const uchar* data, uint index) {
+static uint4 clr_load_texel_uint(int format, __global const uchar* data, uint index) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
   if (!clr_channel_is_integer(layout.channel_type)) return (uint4)(0u, 0u, 0u, 1u);
   uint4 bits = clr_read_texel(layout, data, index);
@@ -207,16 +207,16 @@ uint4 clr_load_texel_uint(int format, __global const uchar* data, uint index) {
   return bits;
 }
 
-void clr_store_texel_uint(int format, __global uchar* data, uint index, uint4 value) {
+static void clr_store_texel_uint(int format, __global uchar* data, uint index, uint4 value) {
   const clr_texel_layout layout = clr_texel_layout_of(format);
   if (clr_channel_is_integer(layout.channel_type)) clr_write_texel(layout, data, index, value);
 }
 
-int4 clr_load_texel_int(int format, __global const uchar* data, uint index) {
+static int4 clr_load_texel_int(int format, __global const uchar* data, uint index) {
   return as_int4(clr_load_texel_uint(format, data, index));
 }
 
-void clr_store_texel_int(int format, __global uchar* data, uint index, int4 value) {
+static void clr_store_texel_int(int format, __global uchar* data, uint index, int4 value) {
   clr_store_texel_uint(format, data, index, as_uint4(value));
 }
 

@@ -21,16 +21,16 @@ typedef struct {
   __constant const TextureDesc* desc;  /* its layout and the sampler's state */
 } clr_texture;
 
-int clr_texture_levels(clr_texture t) { return t.desc->levels; }
+static int clr_texture_levels(clr_texture t) { return t.desc->levels; }
 
 /* Width and height of `level`; (0, 0) for a level the texture does not have. */
-int2 clr_texture_size(clr_texture t, int level) {
+static int2 clr_texture_size(clr_texture t, int level) {
   if (level < 0 || level >= t.desc->levels) return (int2)(0, 0);
   return (int2)(max(1, t.desc->width >> level), max(1, t.desc->height >> level));
 }
 
 /* Index of texel (i, j) of `level` (whose size is `size`), in texels from the start of the buffer. */
-uint clr_texel_index(clr_texture t, int level, int2 size, int i, int j) {
+static uint clr_texel_index(clr_texture t, int level, int2 size, int i, int j) {
   return t.desc->level_offset[level] + (uint)j * (uint)size.x + (uint)i;
 }
 
@@ -38,24 +38,24 @@ uint clr_texel_index(clr_texture t, int level, int2 size, int i, int j) {
  * OpenGL leaves a fetch outside the level, or of a level the texture does not have, undefined: here
  * it reads zeros, in every channel. */
 
-bool clr_fetch_index(clr_texture t, int2 texel, int level, uint* index) {
+static bool clr_fetch_index(clr_texture t, int2 texel, int level, uint* index) {
   const int2 size = clr_texture_size(t, level);
   if (texel.x < 0 || texel.y < 0 || texel.x >= size.x || texel.y >= size.y) return false;
   *index = clr_texel_index(t, level, size, texel.x, texel.y);
   return true;
 }
 
-float4 clr_texel_fetch(clr_texture t, int2 texel, int level) {
+static float4 clr_texel_fetch(clr_texture t, int2 texel, int level) {
   uint index;
   return clr_fetch_index(t, texel, level, &index) ? clr_load_texel_float(t.desc->format, t.data, index) : (float4)(0.0f);
 }
 
-int4 clr_texel_fetch_int(clr_texture t, int2 texel, int level) {
+static int4 clr_texel_fetch_int(clr_texture t, int2 texel, int level) {
   uint index;
   return clr_fetch_index(t, texel, level, &index) ? clr_load_texel_int(t.desc->format, t.data, index) : (int4)(0);
 }
 
-uint4 clr_texel_fetch_uint(clr_texture t, int2 texel, int level) {
+static uint4 clr_texel_fetch_uint(clr_texture t, int2 texel, int level) {
   uint index;
   return clr_fetch_index(t, texel, level, &index) ? clr_load_texel_uint(t.desc->format, t.data, index) : (uint4)(0u);
 }
@@ -63,7 +63,7 @@ uint4 clr_texel_fetch_uint(clr_texture t, int2 texel, int level) {
 /* ---- Wrapping (section 8.14.2, table 8.20) ------------------------------------------------------------ */
 
 /* a mod b, in [0, b) also for negative a. */
-int clr_floor_mod(int a, int b) {
+static int clr_floor_mod(int a, int b) {
   /* Without a division where it can (a division was a fifth of a bilinear sample): inside already,
    * or a power of two, whose mask is the floor modulo in two's complement. The power of two found
    * with clz: LLVM makes a population count of b & (b - 1), which Oclgrind cannot run. */
@@ -74,7 +74,7 @@ int clr_floor_mod(int a, int b) {
 }
 
 /* The texel that integer coordinate i (any integer) selects in a row or column of `size` texels. */
-int clr_wrap(int mode, int i, int size) {
+static int clr_wrap(int mode, int i, int size) {
   switch (mode) {
     case CLR_WRAP_CLAMP_TO_EDGE: return clamp(i, 0, size - 1);
     case CLR_WRAP_MIRRORED_REPEAT: {
@@ -88,13 +88,13 @@ int clr_wrap(int mode, int i, int size) {
 /* floor(u) as an integer. Coordinates beyond +-2^30 texels (where floats no longer tell texels apart)
  * are clamped there, so i + 1 and the wrap arithmetic cannot overflow; NaN becomes -2^30. */
 #define CLR_TEXEL_COORDINATE_LIMIT 1073741824.0f
-int clr_floor_to_int(float u) {
+static int clr_floor_to_int(float u) {
   return convert_int(fmin(fmax(floor(u), -CLR_TEXEL_COORDINATE_LIMIT), CLR_TEXEL_COORDINATE_LIMIT));
 }
 
 /* ---- Filtering one level -------------------------------------------------------------------------------- */
 
-float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) {
+static float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) {
   __constant const TextureDesc* desc = t.desc;
   const int2 size = clr_texture_size(t, level);
   const float2 texel = uv * convert_float2(size); /* (u, v) */
@@ -126,7 +126,7 @@ float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) {
 
 /* Samples with lambda_base, the unbiased, unclamped level of detail. NaN anywhere picks a level the
  * texture has, never an out-of-range one. */
-float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
+static float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
   __constant const TextureDesc* desc = t.desc;
   const float bias = clamp(desc->lod_bias, -CLR_MAX_TEXTURE_LOD_BIAS, CLR_MAX_TEXTURE_LOD_BIAS);
   const float lambda = fmin(fmax(lambda_base + bias, desc->min_lod), desc->max_lod);
@@ -155,12 +155,14 @@ float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
 }
 
 /* textureLod: an explicit level of detail, to which the sampler's bias and lod range still apply. */
-__attribute__((overloadable)) float4 clr_sample_lod(clr_texture t, float2 uv, float lod) { return clr_sample_lambda(t, uv, lod); }
+static __attribute__((overloadable)) float4 clr_sample_lod(clr_texture t, float2 uv, float lod) {
+  return clr_sample_lambda(t, uv, lod);
+}
 
 /* log2(x) approximated as llvmpipe's lp_build_fast_log2 does: exact at powers of two and linear in
  * between, floor(log2(x)) + x / 2^floor(log2(x)) - 1, at most 0.086 below log2(x). Zero, infinities
  * and NaN go to log2 (-inf, inf, NaN), where the approximation has nothing to add. */
-float clr_fast_log2(float x) {
+static float clr_fast_log2(float x) {
   if (!(x > 0.0f) || isinf(x)) return log2(x);
   int exponent;
   const float mantissa = frexp(x, &exponent); /* x = mantissa * 2^exponent, mantissa in [0.5, 1) */
@@ -173,7 +175,7 @@ float clr_fast_log2(float x) {
  * llvmpipe does (gallivm's lp_build_lod_selector: lambda_base = 0.5 * fast_log2(rho^2)), so that its
  * mip selection and trilinear weights agree with the oracle's: exact log2 chose levels up to 0.043
  * higher than llvmpipe across a receding plane, enough to move trilinear results by several 1/255. */
-__attribute__((overloadable)) float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
+static __attribute__((overloadable)) float4 clr_sample_grad(clr_texture t, float2 uv, float2 duv_dx, float2 duv_dy) {
   const float2 size = (float2)((float)t.desc->width, (float)t.desc->height);
   const float2 dx = duv_dx * size;
   const float2 dy = duv_dy * size;

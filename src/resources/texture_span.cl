@@ -194,8 +194,8 @@ static inline clr_span_float clr_span_fast_log2(clr_span_float x) {
   return select(approximation, log2(x), !(x > 0.0f) || isinf(x));
 }
 
-__attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv, clr_span_float2 duv_dx,
-                                                              clr_span_float2 duv_dy) {
+static __attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv,
+                                                                     clr_span_float2 duv_dx, clr_span_float2 duv_dy) {
   const float width = (float)t.desc->width, height = (float)t.desc->height;
   const clr_span_float dx_u = duv_dx.x * width, dx_v = duv_dx.y * height;
   const clr_span_float dy_u = duv_dy.x * width, dy_v = duv_dy.y * height;
@@ -205,7 +205,8 @@ __attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr
   return result;
 }
 
-__attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv, clr_span_float lod) {
+static __attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv,
+                                                                    clr_span_float lod) {
   clr_span_float4 result;
   clr_span_sample_lambda(t, uv, lod, &result);
   return result;
@@ -213,14 +214,15 @@ __attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_
 
 #else /* spans of one pixel: texture.cl's sample */
 
-__attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv, clr_span_float2 duv_dx,
-                                                              clr_span_float2 duv_dy) {
+static __attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv,
+                                                                     clr_span_float2 duv_dx, clr_span_float2 duv_dy) {
   const float4 s = clr_sample_grad(t, (float2)(uv.x, uv.y), (float2)(duv_dx.x, duv_dx.y), (float2)(duv_dy.x, duv_dy.y));
   const clr_span_float4 result = {s.x, s.y, s.z, s.w};
   return result;
 }
 
-__attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv, clr_span_float lod) {
+static __attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv,
+                                                                    clr_span_float lod) {
   const float4 s = clr_sample_lod(t, (float2)(uv.x, uv.y), lod);
   const clr_span_float4 result = {s.x, s.y, s.z, s.w};
   return result;

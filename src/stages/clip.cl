@@ -115,7 +115,7 @@ static inline ClipVertex clip_intersect(const ClipVertex* inside, const ClipVert
 
 /* Clips the convex polygon poly[0 .. count) against every plane in `planes` (a bit mask) and returns
  * the new vertex count (0 when nothing is left). poly must hold CLR_MAX_CLIP_VERTICES. */
-int clip_polygon(ClipVertex* poly, int count, uint planes, float2 guard_min, float2 guard_max) {
+static int clip_polygon(ClipVertex* poly, int count, uint planes, float2 guard_min, float2 guard_max) {
   ClipVertex scratch[CLR_MAX_CLIP_VERTICES];
   for (int plane = 0; plane < CLR_CLIP_PLANES && count > 0; ++plane) {
     if (!(planes & (1u << plane))) continue;

@@ -64,7 +64,7 @@ static inline void load_varyings(__global const float4* slot, float* varyings) {
 }
 
 /* The three clip-space vertices of a primitive, for clipping. */
-void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVertex* triangle) {
+static void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVertex* triangle) {
   const uint s[3] = {slots.x, slots.y, slots.z};
 #pragma unroll
   for (int i = 0; i < 3; ++i) {
@@ -77,7 +77,7 @@ void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVert
 
 /* The window positions of a primitive inside every clip plane, as the vertex stage projected them;
  * their varyings wait for load_window_varyings, which culled triangles never need. */
-void assemble_window_triangle(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
+static void assemble_window_triangle(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
   const uint s[3] = {slots.x, slots.y, slots.z};
 #pragma unroll
   for (int i = 0; i < 3; ++i) {
@@ -91,7 +91,7 @@ void assemble_window_triangle(__global const float4* shaded, uint3 slots, Window
   }
 }
 
-void load_window_varyings(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
+static void load_window_varyings(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
   load_varyings(shaded_slot(shaded, slots.x), triangle[0].varyings);
   load_varyings(shaded_slot(shaded, slots.y), triangle[1].varyings);
   load_varyings(shaded_slot(shaded, slots.z), triangle[2].varyings);
@@ -100,7 +100,8 @@ void load_window_varyings(__global const float4* shaded, uint3 slots, WindowVert
 
 /* Clips a triangle that crosses `planes` (poly holds CLR_MAX_CLIP_VERTICES) and projects what is left
  * into a convex window-space polygon; returns its vertex count (0: nothing left). */
-int clipped_window_polygon(ClipVertex* poly, uint planes, __constant const DrawUniforms* u, WindowVertex* polygon) {
+static int clipped_window_polygon(ClipVertex* poly, uint planes, __constant const DrawUniforms* u,
+                                  WindowVertex* polygon) {
   const int count = clip_polygon(poly, 3, planes, vload2(0, u->guard_min), vload2(0, u->guard_max));
   for (int i = 0; i < count; ++i) {
     if (!project_vertex(&poly[i], u, &polygon[i])) return 0;

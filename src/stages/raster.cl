@@ -14,8 +14,9 @@
  *
  * Per fragment, in OpenGL's order: the fragment program, the stencil test, the depth test (with
  * their stencil operations and depth write), then blending, the write mask and conversion to the
- * attachment's format, for each output. A program that neither discards nor writes depth nor takes
- * derivatives has its tests run first (early fragment tests), so hidden fragments skip it.
+ * attachment's format, for each output. A program that neither discards nor writes depth, and is
+ * not a per-fragment program taking derivatives, has its tests run first (early fragment tests), so
+ * hidden fragments skip it (program/generator.hpp, early_fragment_tests).
  *
  * A pass that writes pending clears (`clears`, resources/pending_clear.hpp) starts each tile from the
  * clear values instead of loading it, runs the tiles without triangles too (they store the clear
@@ -43,7 +44,6 @@
  * work-item per pixel, of the tile where the context's shape has a work-item per pixel (GPUs), else
  * of one quad at a time. Other programs, quad spans included (fragment_ops.cl), take the context's
  * shape (clr_limits.h). */
-#define CLR_QUAD_PIXELS 4
 #define CLR_QUAD_EXCHANGE (CLR_QUAD_SHADING && !CLR_QUAD_SPANS)
 #if CLR_QUAD_EXCHANGE && CLR_RASTER_GROUP_SIZE >= CLR_TILE_PIXELS
 #define CLR_RASTER_GROUP CLR_TILE_PIXELS
@@ -244,13 +244,13 @@ CLR_INLINE clr_span_uint pack_rgba8_span(__local const uint* tile_channels, bool
   return packed;
 }
 
-/* A colour attachment's span in the tile, and the span written back where `written` is true. */
 /* Whether storing a span of colour needs what the tile holds there: a row span stores every lane,
  * what it held where not written; a packed span stores its written lanes only (CLR_TILE_UPDATE), and
  * needs it only for the channels the write mask keeps. */
 static inline bool store_reads_tile(const clr_span_place* place, uint write_mask) {
   return !place->packed || (write_mask & 0xfu) != 0xfu;
 }
+/* A colour attachment's span in the tile, and the span written back where `written` is true. */
 CLR_INLINE void load_tile_span(__local const uint* tile, uint target, const clr_span_place* place, clr_span_bits* bits) {
 #pragma unroll
   for (int c = 0; c < 4; ++c) bits->c[c] = CLR_TILE_LOAD(&tile[CLR_TILE_WORD(target, c, 0)], *place);

@@ -27,10 +27,10 @@ void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
   queue.set_stage(cl_host::Stage::Raster);
   const std::size_t tiles = std::size_t{p.tiles_x} * p.tiles_y;
   const std::size_t runs = cl_host::divide_round_up(tiles, std::size_t{CLR_RASTER_TILE_RUN});
-  cl_host::set_args(kernel_, p.records, p.overflow, p.sorted_ids, p.tile_ranges, cl_uint{p.tiles_x},
-                    static_cast<cl_uint>(tiles), static_cast<cl_uint>(runs), spread_stride(runs), cl_uint{p.width},
-                    p.uniforms, p.depth_stencil, cl_uint{p.stencil_offset}, cl_uint{p.clears});
-  cl_uint next = 13;
+  cl_uint next = cl_host::set_args(kernel_, p.records, p.overflow, p.sorted_ids, p.tile_ranges, cl_uint{p.tiles_x},
+                                   static_cast<cl_uint>(tiles), static_cast<cl_uint>(runs), spread_stride(runs),
+                                   cl_uint{p.width}, p.uniforms, p.depth_stencil, cl_uint{p.stencil_offset},
+                                   cl_uint{p.clears});
   for (const cl::Buffer& color : p.colors) kernel_.setArg(next++, color);
   set_resource_args(kernel_, next, *p.resources);
   // One work-group per tile (whole runs of them), of the shape the program was compiled for (raster.cl).

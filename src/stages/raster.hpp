@@ -1,5 +1,6 @@
 // Rasterization, the fragment program and the per-fragment operations (kernel in raster.cl): one
-// work-group per tile that has triangles binned to it (per tile, when the pass writes pending clears).
+// work-group per tile; those of tiles without triangles return at once, unless the pass writes
+// pending clears.
 #pragma once
 
 #include "stages/draw_buffers.hpp"

@@ -1,7 +1,8 @@
 /* types.h: data layouts and constants shared by the host code and the kernels.
  *
  * Valid C++ and OpenCL C. Every struct holds only 4- and 8-byte scalars, ordered from the widest, so
- * both compilers lay them out identically (checked by static_asserts on the host side).
+ * both compilers lay them out identically (tests/test_kernels.cpp compares the device compiler's
+ * sizes and offsets with the host's).
  */
 #ifndef CLRASTER_TYPES_H
 #define CLRASTER_TYPES_H
@@ -16,7 +17,8 @@
  * hoisted out of the pixel loops. Static, so that no standalone copy outlives the inlining: PoCL
  * parses a program's whole bitcode when it loads the program from the disk cache, and those copies
  * were a third of it (a stage program's load 35-60 -> 21-27 ms, of a first frame of about 100).
- * Every other function of the kernel sources is static for the same reason. */
+ * Every other helper function of the kernel sources (all but the kernels and a program's entry
+ * points) is static for the same reason. */
 #define CLR_INLINE static inline __attribute__((always_inline))
 typedef long clr_long;
 typedef int clr_int;
@@ -200,7 +202,6 @@ typedef struct {
   clr_int stencil_fail; /* CLR_STENCIL_* */
   clr_int depth_fail;
   clr_int depth_pass;
-  clr_int unused;
 } StencilUniforms;
 
 /* ---- Per-draw constants --------------------------------------------------------------------- */

@@ -256,6 +256,15 @@ TexelDifference compare_texels(Format format, std::span<const std::byte> result,
   return difference;
 }
 
+::testing::AssertionResult drawn(const TexturePair& pair) {
+  const std::vector<std::byte> texels = pair.gl.read();
+  const auto size = static_cast<std::size_t>(format_info(pair.gl.format()).bytes_per_texel);
+  for (std::size_t offset = size; offset + size <= texels.size(); offset += size) {
+    if (std::memcmp(texels.data(), texels.data() + offset, size) != 0) return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "every texel of the OpenGL reference holds one value: nothing was drawn";
+}
+
 ::testing::AssertionResult texels_match(const TexturePair& pair, const TexelTolerance& tolerance) {
   const Format format = pair.clr.format();
   const std::vector<std::byte> result = pair.clr.read(tolerance.level);

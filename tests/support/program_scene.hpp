@@ -137,5 +137,8 @@ struct TexelTolerance {
 // <test-output>/<test name>/{reference,result,diff}.png (GL, clraster, and where they differ) and
 // fails with the numbers; on success records them as the test's "texels" property.
 ::testing::AssertionResult texels_match(const TexturePair& pair, const TexelTolerance& tolerance);
+// Whether the GL side of level 0 holds more than one value: a comparison of a picture that nothing
+// was drawn into, both sides the clear value, would prove nothing.
+::testing::AssertionResult drawn(const TexturePair& pair);
 
 }  // namespace clraster::test

@@ -105,7 +105,7 @@ static inline float3 clr_khr_hsl_luminosity(float3 cs, float3 cd) { return clr_k
 /* ---- The blend functions programs call -------------------------------------------------------------- */
 
 #define CLR_KHR_BLEND_MODE(mode)                                                     \
-  inline float4 clr_blend_##mode(float4 source, float4 destination) {               \
+  static inline float4 clr_blend_##mode(float4 source, float4 destination) {        \
     const float3 cs = clr_khr_unpremultiply(source);                                 \
     const float3 cd = clr_khr_unpremultiply(destination);                            \
     return clr_khr_compose(clr_khr_##mode(cs, cd), cs, cd, source.w, destination.w); \
