@@ -33,8 +33,10 @@ __kernel void test_clip(__global const float* in, float2 guard_min, float2 guard
     poly[i].position = vload4(0, in + 7 * i);
     for (int k = 0; k < 3; ++k) poly[i].varyings[k] = in[7 * i + 4 + k];
   }
-  /* Set-up's decision from the vertices' clip codes (setup.cl): rejected when all are outside one
-   * plane, clipped against the planes any is outside, else kept as it is. */
+  /* The decision set-up takes from the vertices' clip codes (setup.cl), restated: rejected when all
+   * are outside one plane, clipped against the planes any is outside, else kept as it is. These
+   * tests check the codes and clip_polygon; set-up's own decision is checked end to end, against
+   * OpenGL, by the conformance tests' scenes that cross and lie behind the near plane. */
   uint any_outside = 0, all_outside = ~0u;
   for (int i = 0; i < 3; ++i) {
     const PositionLanes lanes = position_in_every_lane(poly[i].position);

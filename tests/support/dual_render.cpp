@@ -3,7 +3,9 @@
 #include "io/image_compare.hpp"
 #include "io/image_io.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <optional>
@@ -93,25 +95,41 @@ std::string texel_text(const TexelLayout& layout, std::span<const std::byte> tex
   return text.str();
 }
 
-// 8-bit texels (rows from t = 0) as a picture (rows from the top): one channel (R8, stencil) as
-// grey, a missing blue 0, a missing alpha opaque.
-Image to_image(std::span<const std::byte> texels, int channels, int width, int height) {
+// A channel's value as a byte of a picture: 8-bit channels as they are, float and half ones (depth
+// too) clamped to [0, 1], integer ones their low byte.
+std::uint8_t picture_byte(ChannelKind kind, double value) {
+  switch (kind) {
+    case ChannelKind::Unorm8: return static_cast<std::uint8_t>(value);
+    case ChannelKind::Half:
+    case ChannelKind::Float:
+      return static_cast<std::uint8_t>(std::isnan(value) ? 0 : std::lround(std::clamp(value, 0.0, 1.0) * 255));
+    case ChannelKind::Int:
+    case ChannelKind::Uint: return static_cast<std::uint8_t>(static_cast<std::int64_t>(value) & 0xff);
+  }
+  return 0;
+}
+
+// Texels (rows from t = 0) as a picture (rows from the top): one channel (R8, R32F, depth, stencil)
+// as grey, a missing blue 0, a missing alpha opaque.
+Image to_image(const TexelLayout& layout, std::span<const std::byte> texels, int width, int height) {
   Image image{width, height, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height * 4)};
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      const std::size_t from = static_cast<std::size_t>((height - 1 - y) * width + x) * channels;
+      const auto from = static_cast<std::size_t>((height - 1 - y) * width + x);
       std::uint8_t* to = &image.rgba[static_cast<std::size_t>(y * width + x) * 4];
       to[3] = 255;
-      for (int c = 0; c < channels; ++c) to[c] = std::to_integer<std::uint8_t>(texels[from + c]);
-      if (channels == 1) to[1] = to[2] = to[0];
+      for (int c = 0; c < layout.channels; ++c) {
+        to[c] = picture_byte(layout.kind, channel_value(layout, texels, from, c));
+      }
+      if (layout.channels == 1) to[1] = to[2] = to[0];
     }
   }
   return image;
 }
 
-// Saves both renderers' 8-bit texels of `what` as pictures; returns where.
+// Saves both renderers' texels of `what` as pictures; returns where.
 std::string save_pictures(const std::string& what, std::span<const std::byte> result,
-                          std::span<const std::byte> reference, int channels, int width, int height) {
+                          std::span<const std::byte> reference, const TexelLayout& layout, int width, int height) {
   const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string test_name = std::string(test->test_suite_name()) + "." + test->name();
   for (char& c : test_name) {
@@ -119,7 +137,7 @@ std::string save_pictures(const std::string& what, std::span<const std::byte> re
   }
   const std::filesystem::path dir = std::filesystem::path(output_directory()) / test_name;
   std::filesystem::create_directories(dir);
-  const Image a = to_image(result, channels, width, height), b = to_image(reference, channels, width, height);
+  const Image a = to_image(layout, result, width, height), b = to_image(layout, reference, width, height);
   io::save_png((dir / (what + "-result.png")).string(), a);
   io::save_png((dir / (what + "-reference.png")).string(), b);
   io::save_png((dir / (what + "-diff.png")).string(), io::diff_image(a, b, 0));
@@ -155,9 +173,7 @@ std::string save_pictures(const std::string& what, std::span<const std::byte> re
   ::testing::AssertionResult failure = ::testing::AssertionFailure();
   failure << what << " (" << format_info(format).name << "): " << differing << " of " << count
           << " texels differ (window y up)" << examples.str();
-  if (layout.kind == ChannelKind::Unorm8) {
-    failure << "\n  pictures: " << save_pictures(what, result, reference, layout.channels, width, height);
-  }
+  failure << "\n  pictures: " << save_pictures(what, result, reference, layout, width, height);
   return failure;
 }
 

@@ -15,8 +15,8 @@
 //   EXPECT_TRUE(target.matches());
 //
 // Comparisons are exact unless a test asks for a tolerance, and say which attachment differs,
-// where and with which values; colour attachments that hold 8-bit normalized texels also leave
-// result, reference and diff pictures in output_directory().
+// where and with which values, and leave result, reference and diff pictures in
+// output_directory() (float and depth values clamped to [0, 1], integers as their low byte).
 #pragma once
 
 #include "oracle/gl_scene.hpp"
