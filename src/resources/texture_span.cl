@@ -214,15 +214,18 @@ static __attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture 
 
 #else /* spans of one pixel: texture.cl's sample */
 
-static __attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv,
-                                                                     clr_span_float2 duv_dx, clr_span_float2 duv_dy) {
+/* Not static, unlike the other helpers (types.h): inlined, these two mark the structure they return
+ * with llvm.experimental.noalias.scope.decl, which Oclgrind 21.10 cannot run (the GPU shapes' check,
+ * oclgrind_kernels_wide). */
+__attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv,
+                                                              clr_span_float2 duv_dx, clr_span_float2 duv_dy) {
   const float4 s = clr_sample_grad(t, (float2)(uv.x, uv.y), (float2)(duv_dx.x, duv_dx.y), (float2)(duv_dy.x, duv_dy.y));
   const clr_span_float4 result = {s.x, s.y, s.z, s.w};
   return result;
 }
 
-static __attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv,
-                                                                    clr_span_float lod) {
+__attribute__((overloadable)) clr_span_float4 clr_sample_lod(clr_texture t, clr_span_float2 uv,
+                                                             clr_span_float lod) {
   const float4 s = clr_sample_lod(t, (float2)(uv.x, uv.y), lod);
   const clr_span_float4 result = {s.x, s.y, s.z, s.w};
   return result;

@@ -18,7 +18,8 @@
  * parses a program's whole bitcode when it loads the program from the disk cache, and those copies
  * were a third of it (a stage program's load 35-60 -> 21-27 ms, of a first frame of about 100).
  * Every other helper function of the kernel sources (all but the kernels and a program's entry
- * points) is static for the same reason. */
+ * points) is static for the same reason, but for two that Oclgrind cannot run inlined
+ * (resources/texture_span.cl). */
 #define CLR_INLINE static inline __attribute__((always_inline))
 typedef long clr_long;
 typedef int clr_int;
