@@ -93,7 +93,7 @@ inline constexpr std::size_t kMinMemoryCap = std::size_t{4} << 20;
 inline constexpr int kDeviceTileSize = 0;
 inline constexpr int kCpuShapeTileSize = 32;
 inline constexpr int kGpuShapeTileSize = 16;
-inline constexpr std::array<int, 3> kTileSizes = {8, 16, 32};  // what ContextOptions::tile_size may be besides
+inline constexpr std::array<int, 3> kTileSizes = {8, 16, 32};  // ContextOptions::tile_size, or kDeviceTileSize
 
 // How many work-items the pipeline's kernels put in a work-group. Device: the device's own shapes
 // (on GPUs a work-item per pixel of a tile and 256 per block of a scan or sort; on CPUs one
