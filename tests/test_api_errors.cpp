@@ -6,8 +6,8 @@
 #include "support/error_expectations.hpp"
 #include "support/test_support.hpp"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <limits>

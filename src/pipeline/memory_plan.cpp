@@ -43,6 +43,17 @@ resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::u
   return b;
 }
 
+// The largest value in [lo, hi] that `fits`, which holds for lo and for every value below one that
+// it holds for (a binary search).
+template <typename Fits>
+std::uint64_t largest_fitting(std::uint64_t lo, std::uint64_t hi, Fits fits) {
+  while (lo < hi) {
+    const std::uint64_t mid = lo + (hi - lo + 1) / 2;
+    if (fits(mid)) lo = mid; else hi = mid - 1;
+  }
+  return lo;
+}
+
 std::size_t total(const resources::ScratchSizes& sizes) {
   return std::accumulate(sizes.begin(), sizes.end(), std::size_t{0});
 }
@@ -74,30 +85,23 @@ MemoryPlan plan_memory(const PlanInput& in) {
     return total(buffer_bytes(plan.shade_all_vertices, in, chunk, overflow_for(chunk), pairs));
   };
 
-  std::uint64_t lo = 1;
-  std::uint64_t hi = std::min<std::uint64_t>(std::max(in.primitive_count, 1u), CLR_MAX_CHUNK_PRIMITIVES);
-  if (bytes_for(lo, min_pairs_for(lo)) > in.memory_cap) {
+  const auto chunk_fits = [&](std::uint64_t chunk) { return bytes_for(chunk, min_pairs_for(chunk)) <= in.memory_cap; };
+  if (!chunk_fits(1)) {
     throw InvalidArgument("memory cap of " + std::to_string(in.memory_cap >> 10) + " KiB cannot hold one primitive's " +
-                          std::to_string(min_pairs_for(lo)) + " bin entries and the pipeline's buffers (needs " +
-                          std::to_string((bytes_for(lo, min_pairs_for(lo)) >> 10) + 1) +
+                          std::to_string(min_pairs_for(1)) + " bin entries and the pipeline's buffers (needs " +
+                          std::to_string((bytes_for(1, min_pairs_for(1)) >> 10) + 1) +
                           " KiB): raise the memory cap or the tile size");
   }
-  while (lo < hi) {  // the largest chunk that fits
-    const std::uint64_t mid = lo + (hi - lo + 1) / 2;
-    if (bytes_for(mid, min_pairs_for(mid)) <= in.memory_cap) lo = mid; else hi = mid - 1;
-  }
-  plan.chunk_primitives = static_cast<std::uint32_t>(lo);
-  plan.overflow_capacity = static_cast<std::uint32_t>(overflow_for(lo));
+  const std::uint64_t chunk = largest_fitting(
+      1, std::min<std::uint64_t>(std::max(in.primitive_count, 1u), CLR_MAX_CHUNK_PRIMITIVES), chunk_fits);
+  plan.chunk_primitives = static_cast<std::uint32_t>(chunk);
+  plan.overflow_capacity = static_cast<std::uint32_t>(overflow_for(chunk));
 
-  // Whatever the chunk leaves goes to the bin pairs: the most that fit, which the chunk's choice
-  // makes at least min_pairs_for(lo).
-  std::uint64_t pairs = min_pairs_for(lo);
-  for (std::uint64_t most = 0xffffffffull; pairs < most;) {
-    const std::uint64_t mid = pairs + (most - pairs + 1) / 2;
-    if (bytes_for(lo, mid) <= in.memory_cap) pairs = mid; else most = mid - 1;
-  }
-  plan.pair_capacity = pairs;
-  plan.buffer_bytes = buffer_bytes(plan.shade_all_vertices, in, lo, plan.overflow_capacity, pairs);
+  // Whatever the chunk leaves goes to the bin pairs: the most that fit, at least min_pairs_for(chunk)
+  // (chunk_fits).
+  plan.pair_capacity = largest_fitting(min_pairs_for(chunk), 0xffffffffull,
+                                       [&](std::uint64_t pairs) { return bytes_for(chunk, pairs) <= in.memory_cap; });
+  plan.buffer_bytes = buffer_bytes(plan.shade_all_vertices, in, chunk, plan.overflow_capacity, plan.pair_capacity);
   return plan;
 }
 
