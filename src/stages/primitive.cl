@@ -27,12 +27,17 @@ static inline uint vertex_slot(uint position, const SlotMap* slots, __global con
   return position - slots->stream_begin;
 }
 
-/* The vertex slots of primitive p's three vertices. */
-static inline uint3 primitive_slots(uint p, const SlotMap* slots, __global const uchar* indices,
-                                    __constant const DrawUniforms* u) {
+/* The vertex slots of primitive p's three vertices, into slots[0..2]. Vertex slots travel between
+ * set-up's functions as an array, not a uint3: Intel's CPU compiler, vectorizing set-up 16 work-items
+ * wide (its choice on AVX-512 machines), passed a uint3 argument of a call that it did not inline
+ * with its lanes mixed up, so that the varyings came from the wrong vertices or from addresses far
+ * outside the buffer (a crash). */
+static inline void primitive_slots(uint p, const SlotMap* map, __global const uchar* indices,
+                                   __constant const DrawUniforms* u, uint* slots) {
   const uint3 positions = primitive_stream_positions(u->topology, p);
-  return (uint3)(vertex_slot(positions.x, slots, indices, u), vertex_slot(positions.y, slots, indices, u),
-                 vertex_slot(positions.z, slots, indices, u));
+  slots[0] = vertex_slot(positions.x, map, indices, u);
+  slots[1] = vertex_slot(positions.y, map, indices, u);
+  slots[2] = vertex_slot(positions.z, map, indices, u);
 }
 
 static inline __global const float4* shaded_slot(__global const float4* shaded, uint slot) {
@@ -40,10 +45,10 @@ static inline __global const float4* shaded_slot(__global const float4* shaded, 
 }
 
 /* The union of the three vertices' clip codes (types.h) in .x, their intersection in .y. */
-static inline uint2 primitive_codes(__global const float4* shaded, uint3 slots) {
-  const uint c0 = as_uint(shaded_slot(shaded, slots.x)[CLR_SHADED_WINDOW + 1].z);
-  const uint c1 = as_uint(shaded_slot(shaded, slots.y)[CLR_SHADED_WINDOW + 1].z);
-  const uint c2 = as_uint(shaded_slot(shaded, slots.z)[CLR_SHADED_WINDOW + 1].z);
+static inline uint2 primitive_codes(__global const float4* shaded, const uint* slots) {
+  const uint c0 = as_uint(shaded_slot(shaded, slots[0])[CLR_SHADED_WINDOW + 1].z);
+  const uint c1 = as_uint(shaded_slot(shaded, slots[1])[CLR_SHADED_WINDOW + 1].z);
+  const uint c2 = as_uint(shaded_slot(shaded, slots[2])[CLR_SHADED_WINDOW + 1].z);
   return (uint2)(c0 | c1 | c2, c0 & c1 & c2);
 }
 
@@ -64,11 +69,10 @@ static inline void load_varyings(__global const float4* slot, float* varyings) {
 }
 
 /* The three clip-space vertices of a primitive, for clipping. */
-static void assemble_clip_triangle(__global const float4* shaded, uint3 slots, ClipVertex* triangle) {
-  const uint s[3] = {slots.x, slots.y, slots.z};
+static void assemble_clip_triangle(__global const float4* shaded, const uint* slots, ClipVertex* triangle) {
 #pragma unroll
   for (int i = 0; i < 3; ++i) {
-    __global const float4* in = shaded_slot(shaded, s[i]);
+    __global const float4* in = shaded_slot(shaded, slots[i]);
     triangle[i].position = in[0];
     load_varyings(in, triangle[i].varyings);
   }
@@ -77,11 +81,10 @@ static void assemble_clip_triangle(__global const float4* shaded, uint3 slots, C
 
 /* The window positions of a primitive inside every clip plane, as the vertex stage projected them;
  * their varyings wait for load_window_varyings, which culled triangles never need. */
-static void assemble_window_triangle(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
-  const uint s[3] = {slots.x, slots.y, slots.z};
+static void assemble_window_triangle(__global const float4* shaded, const uint* slots, WindowVertex* triangle) {
 #pragma unroll
   for (int i = 0; i < 3; ++i) {
-    __global const float4* in = shaded_slot(shaded, s[i]) + CLR_SHADED_WINDOW;
+    __global const float4* in = shaded_slot(shaded, slots[i]) + CLR_SHADED_WINDOW;
     const float4 position = in[0];
     const float4 depth = in[1];
     triangle[i].fixed = as_int2(position.xy);
@@ -91,10 +94,10 @@ static void assemble_window_triangle(__global const float4* shaded, uint3 slots,
   }
 }
 
-static void load_window_varyings(__global const float4* shaded, uint3 slots, WindowVertex* triangle) {
-  load_varyings(shaded_slot(shaded, slots.x), triangle[0].varyings);
-  load_varyings(shaded_slot(shaded, slots.y), triangle[1].varyings);
-  load_varyings(shaded_slot(shaded, slots.z), triangle[2].varyings);
+static void load_window_varyings(__global const float4* shaded, const uint* slots, WindowVertex* triangle) {
+  load_varyings(shaded_slot(shaded, slots[0]), triangle[0].varyings);
+  load_varyings(shaded_slot(shaded, slots[1]), triangle[1].varyings);
+  load_varyings(shaded_slot(shaded, slots[2]), triangle[2].varyings);
   take_provoking_flat_varyings(triangle[0].varyings, triangle[1].varyings, triangle[2].varyings);
 }
 

@@ -128,7 +128,8 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
     clipped_counts[i] = 0;
     return;
   }
-  const uint3 vertex_slots = primitive_slots(primitive_begin + i, &slots, indices, u);
+  uint vertex_slots[3];
+  primitive_slots(primitive_begin + i, &slots, indices, u, vertex_slots);
   const uint2 codes = primitive_codes(shaded, vertex_slots);
   const uint planes = codes.x & CLR_VERTEX_OUTSIDE_PLANES;
   if (codes.x & CLR_VERTEX_NOT_FINITE) {
@@ -170,7 +171,8 @@ __kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap 
                             __global const uint* clipped_offsets, __global SetupTriangle* overflow) {
   const uint i = get_global_id(0);
   if (i >= primitive_count || clipped_offsets[i] == clipped_offsets[i + 1]) return;
-  const uint3 vertex_slots = primitive_slots(primitive_begin + i, &slots, indices, u);
+  uint vertex_slots[3];
+  primitive_slots(primitive_begin + i, &slots, indices, u, vertex_slots);
   const uint planes = primitive_codes(shaded, vertex_slots).x & CLR_VERTEX_OUTSIDE_PLANES;
   ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
   WindowVertex polygon[CLR_MAX_CLIP_VERTICES];
