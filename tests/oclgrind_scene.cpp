@@ -5,22 +5,50 @@
 // and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device; and
 // mipmaps of a texture with odd sides; and a span program shaded in quads, sampling three textures.
 // Run under Oclgrind by oclgrind_check.sh, which fails on any data race, out-of-bounds access or API
-// error Oclgrind reports (not on uninitialized reads: that plugin of Oclgrind 21.10 crashes). With the
-// argument "wide", in the GPU's work-group shapes (many work-items per tile and per scan block,
-// where races would show), else in the device's: Oclgrind calls itself a CPU too.
+// error Oclgrind reports (not on uninitialized reads: that plugin of Oclgrind 21.10 crashes), and
+// unless what Oclgrind drew is what the default device (PoCL) drew. With "wide", in the GPU's
+// work-group shapes (many work-items per tile and per scan block, where races would show), else in
+// the device's: Oclgrind calls itself a CPU too. The tile size is the device's choice: Oclgrind has
+// OpenCL's minimum of 32 KiB of local memory, so the stage programs take the smaller tiles that fit.
+//   oclgrind_scene [wide] OUTPUT_DIR    writes each target it read back to OUTPUT_DIR/NAME.bin, and
+//                                       fails if a target holds nothing but its clear value
 #include "clraster/clraster.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 #include <vector>
 
+namespace {
+
+// Writes what a target holds to directory/name.bin, after checking that something was drawn: not
+// every element equal to the first (all the targets start from a clear of one value).
+template <typename T>
+void keep(const std::filesystem::path& directory, const std::string& name, const std::vector<T>& values) {
+  if (std::all_of(values.begin(), values.end(), [&](const T& v) { return v == values.front(); })) {
+    throw std::runtime_error(name + ": nothing was drawn");
+  }
+  std::ofstream file(directory / (name + ".bin"), std::ios::binary);
+  file.write(reinterpret_cast<const char*>(values.data()), static_cast<std::streamsize>(values.size() * sizeof(T)));
+  if (!file) throw std::runtime_error("cannot write " + (directory / (name + ".bin")).string());
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   try {
+    const bool wide = argc == 3 && std::string_view(argv[1]) == "wide";
+    if (argc != 2 && !wide) throw std::runtime_error("usage: oclgrind_scene [wide] OUTPUT_DIR");
+    const std::filesystem::path output = argv[argc - 1];
+    std::filesystem::create_directories(output);
     clraster::ContextOptions options;
-    if (argc > 1 && std::string_view(argv[1]) == "wide") options.work_group_shape = clraster::WorkGroupShape::Wide;
-    options.tile_size = 8;
+    if (wide) options.work_group_shape = clraster::WorkGroupShape::Wide;
     options.cache_dir = "off";
     clraster::Context context(options);
     clraster::Framebuffer target(context, 37, 21);  // not a multiple of the tile
@@ -51,11 +79,14 @@ int main(int argc, char** argv) {
     target.draw(fan);
 
     // Mipmaps of a texture with odd sides (5x3 -> 2x1 -> 1x1), in sRGB.
-    const std::vector<std::byte> odd_texels(5 * 3 * 4, std::byte{200});
+    std::vector<std::byte> odd_texels(5 * 3 * 4);
+    for (std::size_t i = 0; i < odd_texels.size(); ++i) odd_texels[i] = static_cast<std::byte>(90 + i * 11);
     const clraster::Texture texture(context, 5, 3, clraster::Format::SRGB8_A8, odd_texels);
-    std::printf("texture level 2: %d bytes\n", static_cast<int>(texture.read(2).size()));
+    keep(output, "odd_level1", texture.read(1));
+    if (texture.read(2).size() != 4) throw std::runtime_error("level 2 of a 5x3 texture is not one texel");
 
     const clraster::Image image = target.read_color();
+    keep(output, "draws", image.rgba);
 
     const char* const source = R"(
 clr_attribute(float2, corner)
@@ -106,6 +137,9 @@ void fragment(clr_fragment* f) {
                                   clraster::BlendFactor::SrcAlpha, clraster::BlendFactor::OneMinusSrcAlpha,
                                   clraster::BlendFactor::One, clraster::BlendFactor::One, {true, true, true, true}};
     layers.draw(overlapping);
+    keep(output, "layers_color", color.read());
+    keep(output, "layers_ids", ids.read());
+    keep(output, "layers_stencil", layers.read_stencil());
     color.generate_mipmaps();
 
     // A span program shaded in quads: in the device's shapes blocks of two quads, derivatives
@@ -146,9 +180,9 @@ void fragment_span(clr_span_fragment* f) {
     quads.attributes = {{"corner", &corner_buffer, clraster::AttributeType::Float2}};
     quads.count = 3;
     target.draw(quads);
-    std::printf("span program: %zu pixels\n", target.read_color().rgba.size() / 4);
-    std::printf("rendered %dx%d and %dx%d (%zu stencil bytes)\n", image.width, image.height, layers.width(),
-                layers.height(), layers.read_stencil().size());
+    keep(output, "span_program", target.read_color().rgba);
+    std::printf("oclgrind_scene: drew %s on %s, tiles of %d\n", output.string().c_str(), context.device().name.c_str(),
+                context.options().tile_size);
     return 0;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "oclgrind_scene: %s\n", error.what());

@@ -14,10 +14,10 @@
 
 /* clr_floor_mod and clr_wrap (texture.cl) lane by lane, each lane with its own size. */
 static inline clr_span_int clr_span_floor_mod(clr_span_int a, clr_span_int b) {
-  const clr_span_int inside = CLR_SPAN_AS(uint, a) < CLR_SPAN_AS(uint, b);
-  const clr_span_int power_of_two = (CLR_SPAN_AS(uint, b) << CLR_SPAN_AS(uint, clz(b))) == 0x80000000u;
-  clr_span_int result = select(a & (b - 1), a, inside);
-  const clr_span_int divided = !inside && !power_of_two;
+  const clr_span_int outside = CLR_SPAN_AS(uint, a) >= CLR_SPAN_AS(uint, b);
+  const clr_span_int not_power_of_two = (CLR_SPAN_AS(uint, b) << CLR_SPAN_AS(uint, clz(b))) != 0x80000000u;
+  clr_span_int result = select(a, a & (b - 1), outside);
+  const clr_span_int divided = outside & not_power_of_two;
   if (clr_span_any(divided)) { /* a division per lane: only where some lane is outside a side not a power of two */
     const clr_span_int r = a % select((clr_span_int)(1), b, divided);
     result = select(result, select(r, r + b, r < 0), divided);
@@ -95,8 +95,8 @@ static inline void clr_span_select_into(clr_span_float4* a, clr_span_float4 b, c
 static void clr_span_filter_level(clr_texture t, clr_span_float2 uv, clr_span_int level, int filter,
                                   clr_span_float4* result) {
   __constant const TextureDesc* desc = t.desc;
-  const clr_span_int width = max((clr_span_int)(desc->width) >> level, 1);
-  const clr_span_int height = max((clr_span_int)(desc->height) >> level, 1);
+  const clr_span_int width = max((clr_span_int)(desc->width) >> level, (clr_span_int)(1));
+  const clr_span_int height = max((clr_span_int)(desc->height) >> level, (clr_span_int)(1));
   const clr_span_uint offset = CLR_SPAN_GATHER(desc->level_offset, level);
   const clr_span_float u = uv.x * CLR_SPAN_CONVERT(float, width);
   const clr_span_float v = uv.y * CLR_SPAN_CONVERT(float, height);
@@ -165,9 +165,9 @@ static void clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_f
     }
     case CLR_MIP_LINEAR: {
       /* Lanes at or past the last level (or NaN) take it alone, and magnified lanes level 0. */
-      const clr_span_int last = !(lambda < (float)q);
+      const clr_span_int last = (lambda >= (float)q) | isnan(lambda);
       const clr_span_float d1 = floor(lambda);
-      const clr_span_int alone = last || magnified;
+      const clr_span_int alone = last | magnified;
       const clr_span_int finer_level =
           select(select(CLR_SPAN_CONVERT(int, d1), (clr_span_int)(q), last), (clr_span_int)(0), magnified);
       const clr_span_float weight = select(lambda - d1, (clr_span_float)(0.0f), alone);
@@ -191,7 +191,7 @@ static inline clr_span_float clr_span_fast_log2(clr_span_float x) {
   clr_span_int exponent;
   const clr_span_float mantissa = frexp(x, &exponent);
   const clr_span_float approximation = CLR_SPAN_CONVERT(float, exponent - 1) + (2.0f * mantissa - 1.0f);
-  return select(approximation, log2(x), !(x > 0.0f) || isinf(x));
+  return select(log2(x), approximation, (x > 0.0f) & (x < INFINITY));
 }
 
 static __attribute__((overloadable)) clr_span_float4 clr_sample_grad(clr_texture t, clr_span_float2 uv,

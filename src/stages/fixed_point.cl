@@ -29,7 +29,7 @@ CLR_INLINE ProjectedLanes project_lanes(const PositionLanes* p, __constant const
   const vertex_lanes_float x = p->x * inv_w * u->viewport_scale[0] + u->viewport_offset[0];
   const vertex_lanes_float y = p->y * inv_w * u->viewport_scale[1] + u->viewport_offset[1];
   const vertex_lanes_float z = p->z * inv_w * 0.5f + 0.5f;
-  const vertex_lanes_int projectable = isfinite(x) && isfinite(y) && isfinite(z);
+  const vertex_lanes_int projectable = isfinite(x) & isfinite(y) & isfinite(z);
   /* Where a lane cannot be projected, 0 instead of what the conversions make of infinities. */
   const vertex_lanes_float unsnapped_x = select((vertex_lanes_float)(0.0f), (x - 0.5f) * (float)CLR_SUBPIXEL_ONE, projectable);
   const vertex_lanes_float unsnapped_y = select((vertex_lanes_float)(0.0f), (y - 0.5f) * (float)CLR_SUBPIXEL_ONE, projectable);

@@ -23,7 +23,12 @@
  * the same bits.
  *
  * Masks are what comparisons give: -1 per true lane in vectors, 1 in scalars. Both are true to
- * select(), &&, || and !, and clr_span_any tests them; ~ is never applied to a mask (~1 is true).
+ * select(), and clr_span_any tests them; they are combined with & and |, which keep either form.
+ * A vector mask is never negated (not with !, == 0 or ~): the opposite comparison is written, or
+ * select()'s operands swapped. Oclgrind 21.10 negates some vector masks wrongly (true as -2, false
+ * as 1, depending on what its compiler made of the expression), which made its checks of the
+ * kernels run on the wrong lanes. For the same reason integer min, max and clamp of span vectors
+ * take vector bounds: Oclgrind reads a scalar bound of those as a vector, garbage beyond lane 0.
  *
  * The loops of the span code over channels, edges and varyings carry `#pragma unroll`: unrolled,
  * the arrays of span vectors in its structures (clr_span_color's channels, ...) become registers;
@@ -256,7 +261,7 @@ CLR_INLINE clr_span_uint clr_stencil_update(StencilUniforms s, int op, clr_span_
   switch (op) {
     case CLR_STENCIL_ZERO: value = 0u; break;
     case CLR_STENCIL_REPLACE: value = s.reference; break;
-    case CLR_STENCIL_INCR: value = min(stored + 1u, 255u); break;
+    case CLR_STENCIL_INCR: value = min(stored + 1u, (clr_span_uint)(255u)); break;
     case CLR_STENCIL_INCR_WRAP: value = stored + 1u; break;
     case CLR_STENCIL_DECR: value = select(stored - 1u, (clr_span_uint)(0u), stored == 0u); break;
     case CLR_STENCIL_DECR_WRAP: value = stored - 1u; break;

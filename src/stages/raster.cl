@@ -112,7 +112,7 @@ static inline void coverage_mask(const __local SetupTriangle* t, int2 origin, __
   for (int chunk = (lo.x - origin.x) / 8; chunk <= (hi.x - origin.x) / 8; ++chunk) {
     const int8 xs = (int8)(origin.x + chunk * 8) + (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     const long8 X = convert_long8(xs) << CLR_SUBPIXEL_BITS;
-    const long8 in_box = convert_long8(xs >= (int8)(lo.x) && xs <= (int8)(hi.x));
+    const long8 in_box = convert_long8((xs >= (int8)(lo.x)) & (xs <= (int8)(hi.x)));
     const long8 ax0 = (long8)((long)t->edge_a[0]) * X;
     const long8 ax1 = (long8)((long)t->edge_a[1]) * X;
     const long8 ax2 = (long8)((long)t->edge_a[2]) * X;
@@ -286,7 +286,7 @@ CLR_INLINE clr_span_int fragment_tests(clr_fragment* f, bool front_facing, clr_s
     const clr_span_uint updated = clr_stencil_after_tests(*s, stencil_passes, depth_passes, stored_stencil);
     CLR_TILE_UPDATE(uchar, stored_stencil, updated, covered, stencil, *place);
   }
-  const clr_span_int passed = covered && stencil_passes && depth_passes;
+  const clr_span_int passed = covered & stencil_passes & depth_passes;
   if (u->depth_test && u->depth_write) CLR_TILE_UPDATE(float, stored_depth, frag_depth, passed, depth, *place);
   return passed;
 }

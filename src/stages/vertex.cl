@@ -49,19 +49,20 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
 
   /* The window part of the slots (CLR_SHADED_WINDOW, two float4s). */
   const ProjectedLanes window = project_lanes(&p, u);
-  const vertex_lanes_int finite = isfinite(p.x) && isfinite(p.y) && isfinite(p.z) && isfinite(p.w);
+  const vertex_lanes_int finite = isfinite(p.x) & isfinite(p.y) & isfinite(p.z) & isfinite(p.w);
   const vertex_lanes_int codes = clip_outcode_lanes(&p, vload2(0, u->guard_min), vload2(0, u->guard_max)) |
                                  view_outcode_lanes(&p) |
-                                 select((vertex_lanes_int)(0), (vertex_lanes_int)(CLR_VERTEX_NOT_FINITE), !finite) |
-                                 select((vertex_lanes_int)(0), (vertex_lanes_int)(CLR_VERTEX_NOT_PROJECTABLE),
-                                        finite && !window.projectable);
+                                 select((vertex_lanes_int)(CLR_VERTEX_NOT_FINITE),
+                                        select((vertex_lanes_int)(CLR_VERTEX_NOT_PROJECTABLE), (vertex_lanes_int)(0),
+                                               window.projectable),
+                                        finite);
   /* The planes and viewport sides that all of this work-item's vertices are outside: none if one is
    * not finite (such a vertex's primitives are dropped and counted, not culled). Lanes past the last
    * slot count as outside all of them. CLR_VERTEX_LANES divides CLR_CODE_GROUP_SLOTS, so the slots
    * are in one group. */
   if (shade_all) {
     const vertex_lanes_int outside =
-        select(codes & (vertex_lanes_int)(CLR_VERTEX_OUTSIDE), (vertex_lanes_int)(0), !finite);
+        select((vertex_lanes_int)(0), codes & (vertex_lanes_int)(CLR_VERTEX_OUTSIDE), finite);
     uint all_outside = CLR_VERTEX_OUTSIDE;
 #pragma unroll
     for (uint lane = 0; lane < CLR_VERTEX_LANES; ++lane) {
