@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -88,8 +89,11 @@ inline constexpr std::size_t kMinMemoryCap = std::size_t{4} << 20;
 // triangles 1.02 to 1.04; docs/performance.md, step 36).
 // Where a work-item takes a pixel of the tile (GPUs), 16x16 pixels: 256 work-items, and the tile
 // in the local memory of small GPUs; against 8x8, a quarter of the bin entries and tile loads for
-// triangles larger than a tile. A program with many outputs may need 8 on a GPU with 32 KiB of
-// local memory.
+// triangles larger than a tile. Smaller where the device needs it: in the GPU shapes, a tile's
+// pixels must fit in one work-group; and a program whose stages need more local memory than the
+// device has at the context's size (a tile's attachments: 32 KiB, OpenCL's minimum, holds a 32x32
+// tile of one RGBA colour attachment but not the triangles staged beside it) is built for the
+// largest smaller one that fits.
 inline constexpr int kDeviceTileSize = 0;
 inline constexpr int kCpuShapeTileSize = 32;
 inline constexpr int kGpuShapeTileSize = 16;
@@ -111,7 +115,9 @@ struct ContextOptions {
   // At least kMinMemoryCap.
   std::size_t memory_cap = kDefaultMemoryCap;
   // Side of the square screen tile that one work-group rasterizes: 8, 16 or 32 pixels, or
-  // kDeviceTileSize for the context's choice (Context::options() then says which it took).
+  // kDeviceTileSize for the context's choice (Context::options() then says which it took; a program
+  // that does not fit the device at that size takes a smaller one). A program that does not fit the
+  // device at a size given here is refused (InvalidArgument naming the limit).
   int tile_size = kDeviceTileSize;
   // Where built program binaries are kept between runs. Empty: $CLRASTER_CACHE_DIR, else
   // $XDG_CACHE_HOME/clraster, else ~/.cache/clraster. "off" (here or in $CLRASTER_CACHE_DIR)
@@ -119,7 +125,9 @@ struct ContextOptions {
   std::string cache_dir;
   // Measure each pipeline stage's device time (DrawStats::stage_times). Costs a little per command.
   bool profile = false;
-  WorkGroupShape work_group_shape = WorkGroupShape::Device;
+  // Unset: $CLRASTER_WORK_GROUP_SHAPE ("device" or "wide"), else Device (Context::options() then
+  // says which it took).
+  std::optional<WorkGroupShape> work_group_shape;
 };
 
 // A device, its command queue, the built pipeline programs and the pipeline's scratch memory.

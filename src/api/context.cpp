@@ -3,7 +3,10 @@
 #include "clr_limits.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdlib>
 #include <string>
+#include <string_view>
 
 namespace clraster {
 
@@ -29,6 +32,16 @@ void check_options(const ContextOptions& options) {
   }
 }
 
+WorkGroupShape shape_from_environment() {
+  const char* text = std::getenv("CLRASTER_WORK_GROUP_SHAPE");
+  if (text == nullptr || *text == '\0' || std::string_view(text) == "device") return WorkGroupShape::Device;
+  if (std::string_view(text) == "wide") return WorkGroupShape::Wide;
+  throw InvalidArgument(std::string("CLRASTER_WORK_GROUP_SHAPE='") + text + "' is neither 'device' nor 'wide'");
+}
+
+// The largest power of two at most `limit` (which is at least 1).
+std::size_t power_of_two_at_most(std::size_t limit) { return std::bit_floor(std::max<std::size_t>(limit, 1)); }
+
 }  // namespace
 
 ContextState::ContextState(const ContextOptions& options_in, cl_host::Device device_in)
@@ -37,14 +50,23 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
       context(device.device),
       queue(cl::CommandQueue(context, device.device, options.profile ? CL_QUEUE_PROFILING_ENABLE : 0), options.profile),
       programs(context, device, options.cache_dir) {
-  if (options.tile_size == kDeviceTileSize) options.tile_size = cpu_shapes() ? kCpuShapeTileSize : kGpuShapeTileSize;
+  if (!options.work_group_shape) options.work_group_shape = shape_from_environment();
+  const std::size_t group_limit = device.limits.work_group_items;
+  // The GPU shapes take a work-item per pixel of a tile, so the tile is the largest whose pixels
+  // the device's work-groups hold; the CPU shapes loop over their tile.
+  tile_size_chosen = options.tile_size == kDeviceTileSize;
+  if (tile_size_chosen) {
+    options.tile_size = cpu_shapes() ? kCpuShapeTileSize : kGpuShapeTileSize;
+    while (!cpu_shapes() && options.tile_size > kTileSizes.front() &&
+           static_cast<std::size_t>(options.tile_size * options.tile_size) > group_limit) {
+      options.tile_size /= 2;
+    }
+  }
   // The largest work-group the shapes make (clr_limits.h): a tile's, a work-item per pixel with the
-  // GPU shapes; else a scan block's or the kernels' of one work-item per element.
-  const std::size_t group_limit = device.device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+  // GPU shapes; else the kernels' of one work-item per element (a scan block's adapts, scan_items).
   const int tile_items =
       cpu_shapes() ? std::max(CLR_RASTER_CPU_ITEMS, CLR_QUAD_PIXELS) : options.tile_size * options.tile_size;
-  const auto tile_group = static_cast<std::size_t>(tile_items);
-  const std::size_t largest_group = std::max({tile_group, scan_items(), std::size_t{CLR_ITEM_GROUP_SIZE}});
+  const std::size_t largest_group = std::max(static_cast<std::size_t>(tile_items), std::size_t{CLR_ITEM_GROUP_SIZE});
   if (largest_group > group_limit) {
     throw InvalidArgument("device " + device.info.name + " allows work-groups of " + std::to_string(group_limit) +
                           " work-items; the pipeline's, with tile size " + std::to_string(options.tile_size) +
@@ -52,33 +74,42 @@ ContextState::ContextState(const ContextOptions& options_in, cl_host::Device dev
   }
 }
 
-bool ContextState::cpu_shapes() const {
-  return options.work_group_shape == WorkGroupShape::Device &&
-         (device.device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
-}
+bool ContextState::cpu_shapes() const { return options.work_group_shape == WorkGroupShape::Device && device.limits.cpu; }
 
-std::size_t ContextState::scan_items() const { return cpu_shapes() ? CLR_SCAN_CPU_ITEMS : CLR_SCAN_GPU_ITEMS; }
+std::size_t ContextState::scan_items() const {
+  return cpu_shapes() ? CLR_SCAN_CPU_ITEMS
+                      : std::min<std::size_t>(CLR_SCAN_GPU_ITEMS, power_of_two_at_most(device.limits.work_group_items));
+}
 
 std::size_t ContextState::vertex_lanes() const { return cpu_shapes() ? CLR_CPU_VERTEX_LANES : 1; }
 
-std::string ContextState::build_options() const {
+std::string ContextState::core_build_options() const {
   // Work-group shapes are the device's (clr_limits.h): kernels take them as constants, the host
   // reads them back from each kernel (cl_host::compiled_group_size).
-  const int raster_items = cpu_shapes() ? CLR_RASTER_CPU_ITEMS : options.tile_size * options.tile_size;
-  return "-cl-std=CL1.2 -DCLR_TILE_SIZE=" + std::to_string(options.tile_size) +
-         " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items) + " -DCLR_SCAN_GROUP_SIZE=" +
-         std::to_string(scan_items()) + " -DCLR_VERTEX_LANES=" + std::to_string(vertex_lanes());
+  return "-cl-std=CL1.2 -DCLR_SCAN_GROUP_SIZE=" + std::to_string(scan_items());
+}
+
+std::string ContextState::stage_build_options(int tile_size) const {
+  const int raster_items = cpu_shapes() ? CLR_RASTER_CPU_ITEMS : tile_size * tile_size;
+  return core_build_options() + " -DCLR_TILE_SIZE=" + std::to_string(tile_size) +
+         " -DCLR_RASTER_GROUP_SIZE=" + std::to_string(raster_items) +
+         " -DCLR_VERTEX_LANES=" + std::to_string(vertex_lanes());
 }
 
 const cl::Program& ContextState::core_program() {
-  if (!core_) core_ = programs.get("core", cl_sources::core_program(), build_options());
+  if (!core_) {
+    core_ = programs.get("core", cl_sources::core_program(), core_build_options());
+    if (const std::optional<std::string> excess = cl_host::kernel_beyond_limits(*core_, device)) {
+      throw InvalidArgument("the pipeline's " + *excess);
+    }
+  }
   return *core_;
 }
 
 pipeline::Pipeline& ContextState::get_pipeline() {
   if (!pipeline) {
-    pipeline =
-        std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.tile_size, options.memory_cap);
+    pipeline = std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.memory_cap,
+                                                    device.limits.buffer_bytes);
   }
   return *pipeline;
 }

@@ -180,17 +180,8 @@ DrawStats Framebuffer::draw(const DrawCall& call) {
     pipeline::DrawSource source;
     source.program = &compiled.parsed;
     if (!compiled.stages) {
-      auto stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort(),
-                                                             state.vertex_lanes());
-      const std::size_t needed = stages->raster.local_memory_bytes(state.device.device);
-      const auto available = state.device.device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
-      if (needed > available) {
-        throw InvalidArgument("program " + compiled.file_name + " needs " + std::to_string(needed) +
-                              " bytes of local memory per " + std::to_string(state.options.tile_size) + "x" +
-                              std::to_string(state.options.tile_size) + " tile but the device has " +
-                              std::to_string(available) + ": use a smaller tile size, or fewer outputs or varyings");
-      }
-      compiled.stages = std::move(stages);
+      compiled.stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort(),
+                                                                 state.vertex_lanes(), compiled.tile_size);
     }
     source.stages = compiled.stages.get();
     resolve_attributes(call, compiled, state, source);

@@ -21,7 +21,10 @@ inline constexpr std::size_t kShadingCount = static_cast<std::size_t>(Shading::C
 // Shared by the Context and every resource made from it, so a resource that outlives its Context
 // still holds a valid OpenCL context and queue.
 struct ContextState : std::enable_shared_from_this<ContextState> {
-  ContextOptions options;
+  ContextOptions options;  // as given, with the shape and the tile size resolved
+  // Whether the context chose options.tile_size (kDeviceTileSize): then a program whose stages do not
+  // fit the device at that size takes a smaller one (compile_program).
+  bool tile_size_chosen = false;
   cl_host::Device device;
   cl::Context context;
   cl_host::Queue queue;
@@ -35,8 +38,9 @@ struct ContextState : std::enable_shared_from_this<ContextState> {
   const cl::Program& core_program();
   pipeline::Pipeline& get_pipeline();
   const Program& builtin_program(Shading shading);
-  // Build options every program of this context gets.
-  std::string build_options() const;
+  // Build options of the core program, and of a program's stages at a tile size.
+  std::string core_build_options() const;
+  std::string stage_build_options(int tile_size) const;
   bool cpu_shapes() const;         // the work-group shapes of a CPU device (clr_limits.h)
   std::size_t scan_items() const;  // work-items per block of scans and sorts (clr_limits.h)
   std::size_t vertex_lanes() const;  // vertex slots per work-item of the vertex stage (clr_limits.h)
@@ -95,6 +99,7 @@ struct Program::Impl {
   std::string file_name;
   program::ParsedProgram parsed;
   cl::Program program;
+  int tile_size = 0;  // the context's, or smaller where the device needs it (compile_program)
   std::unique_ptr<pipeline::ProgramStages> stages;  // the program's stage kernels, made by its first draw
 };
 

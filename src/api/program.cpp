@@ -91,14 +91,34 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
   impl->state = state;
   impl->file_name = file_name;
   impl->parsed = program::parse_program(source, file_name);
-  const std::string text = program::generate_stage_program(impl->parsed, source, file_name);
-  try {
-    impl->program = translate_cl_errors([&] { return state->programs.get(file_name, text, state->build_options()); });
-  } catch (const BuildError& error) {
-    throw BuildError("program " + file_name + " failed to compile:\n" + compile_errors(error.log(), file_name),
-                     error.log());
+  const cl_host::DeviceLimits& limits = state->device.limits;
+  if (impl->parsed.interface.uniform_bytes > limits.constant_buffer_bytes) {
+    throw InvalidArgument("program " + file_name + "'s uniforms take " + std::to_string(impl->parsed.interface.uniform_bytes) +
+                          " bytes; device " + state->device.info.name + " has " +
+                          std::to_string(limits.constant_buffer_bytes) + " of constant memory for them");
   }
-  return impl;
+  const std::string text = program::generate_stage_program(impl->parsed, source, file_name);
+  // The context's tile size, or, where the context chose it and the program's stages need more than
+  // the device has at that size (local memory for the tile's attachments, work-items for its pixels),
+  // the largest smaller one they fit.
+  for (impl->tile_size = state->options.tile_size;; impl->tile_size /= 2) {
+    try {
+      impl->program = translate_cl_errors(
+          [&] { return state->programs.get(file_name, text, state->stage_build_options(impl->tile_size)); });
+    } catch (const BuildError& error) {
+      throw BuildError("program " + file_name + " failed to compile:\n" + compile_errors(error.log(), file_name),
+                       error.log());
+    }
+    const std::optional<std::string> excess =
+        translate_cl_errors([&] { return cl_host::kernel_beyond_limits(impl->program, state->device); });
+    if (!excess) return impl;
+    if (!state->tile_size_chosen || impl->tile_size == kTileSizes.front()) {
+      throw InvalidArgument("program " + file_name + " cannot run with " + std::to_string(impl->tile_size) + "x" +
+                            std::to_string(impl->tile_size) + " tiles: its " + *excess +
+                            (impl->tile_size > kTileSizes.front() ? ": use a smaller tile size" : "") +
+                            ", or fewer outputs, varyings or resources");
+    }
+  }
 }
 
 Program::Program(Context& context, std::string source, std::string file_name)

@@ -70,7 +70,9 @@ StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint3
 
 MemoryPlan plan_memory(const PlanInput& in) {
   MemoryPlan plan;
-  plan.shade_all_vertices = in.indexed && in.vertex_count * in.shaded_vertex_bytes <= in.memory_cap / CLR_SHADE_ALL_CAP_DIVISOR;
+  const std::uint64_t all_vertices_bytes = in.vertex_count * in.shaded_vertex_bytes;
+  plan.shade_all_vertices = in.indexed && all_vertices_bytes <= in.memory_cap / CLR_SHADE_ALL_CAP_DIVISOR &&
+                            all_vertices_bytes <= in.buffer_bytes;
   // Room for the triangles of one primitive at least, however it is clipped.
   const auto overflow_for = [](std::uint64_t chunk) {
     return std::max<std::uint64_t>(chunk / CLR_OVERFLOW_DIVISOR, CLR_MAX_CLIP_TRIANGLES);
@@ -81,12 +83,24 @@ MemoryPlan plan_memory(const PlanInput& in) {
   const auto min_pairs_for = [&](std::uint64_t chunk) {
     return std::max<std::uint64_t>(std::uint64_t{CLR_MAX_CLIP_TRIANGLES} * in.tile_count, 2 * chunk);
   };
-  const auto bytes_for = [&](std::uint64_t chunk, std::uint64_t pairs) {
-    return total(buffer_bytes(plan.shade_all_vertices, in, chunk, overflow_for(chunk), pairs));
+  const auto sizes_for = [&](std::uint64_t chunk, std::uint64_t pairs) {
+    return buffer_bytes(plan.shade_all_vertices, in, chunk, overflow_for(chunk), pairs);
+  };
+  const auto bytes_for = [&](std::uint64_t chunk, std::uint64_t pairs) { return total(sizes_for(chunk, pairs)); };
+  const auto fits = [&](std::uint64_t chunk, std::uint64_t pairs) {
+    const resources::ScratchSizes sizes = sizes_for(chunk, pairs);
+    return total(sizes) <= in.memory_cap && *std::max_element(sizes.begin(), sizes.end()) <= in.buffer_bytes;
   };
 
-  const auto chunk_fits = [&](std::uint64_t chunk) { return bytes_for(chunk, min_pairs_for(chunk)) <= in.memory_cap; };
+  const auto chunk_fits = [&](std::uint64_t chunk) { return fits(chunk, min_pairs_for(chunk)); };
   if (!chunk_fits(1)) {
+    const resources::ScratchSizes sizes = sizes_for(1, min_pairs_for(1));
+    const std::size_t largest = *std::max_element(sizes.begin(), sizes.end());
+    if (largest > in.buffer_bytes) {
+      throw InvalidArgument("one primitive's " + std::to_string(min_pairs_for(1)) + " bin entries need a buffer of " +
+                            std::to_string((largest >> 10) + 1) + " KiB; the device allocates at most " +
+                            std::to_string(in.buffer_bytes >> 10) + " KiB at once: raise the tile size");
+    }
     throw InvalidArgument("memory cap of " + std::to_string(in.memory_cap >> 10) + " KiB cannot hold one primitive's " +
                           std::to_string(min_pairs_for(1)) + " bin entries and the pipeline's buffers (needs " +
                           std::to_string((bytes_for(1, min_pairs_for(1)) >> 10) + 1) +
@@ -99,8 +113,8 @@ MemoryPlan plan_memory(const PlanInput& in) {
 
   // Whatever the chunk leaves goes to the bin pairs: the most that fit, at least min_pairs_for(chunk)
   // (chunk_fits).
-  plan.pair_capacity = largest_fitting(min_pairs_for(chunk), 0xffffffffull,
-                                       [&](std::uint64_t pairs) { return bytes_for(chunk, pairs) <= in.memory_cap; });
+  plan.pair_capacity =
+      largest_fitting(min_pairs_for(chunk), 0xffffffffull, [&](std::uint64_t pairs) { return fits(chunk, pairs); });
   plan.buffer_bytes = buffer_bytes(plan.shade_all_vertices, in, chunk, plan.overflow_capacity, plan.pair_capacity);
   return plan;
 }

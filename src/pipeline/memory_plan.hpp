@@ -14,6 +14,7 @@ namespace clraster::pipeline {
 
 struct PlanInput {
   std::size_t memory_cap = 0;
+  std::size_t buffer_bytes = 0;   // the most one buffer may take (the device's largest allocation)
   std::uint64_t vertex_count = 0;
   bool indexed = false;
   int topology = 0;               // CLR_TOPOLOGY_*
@@ -40,9 +41,9 @@ inline std::uint64_t code_groups(std::uint64_t vertices) {
 }
 inline std::uint32_t chunk_blocks(std::uint32_t primitives) { return primitives / CLR_CULL_BLOCK_PRIMITIVES + 2; }
 
-// The plan with the largest chunks that fit. Throws InvalidArgument when the cap cannot hold even
-// one primitive together with the most bin pairs one primitive makes (CLR_MAX_CLIP_TRIANGLES
-// screen-covering triangles).
+// The plan with the largest chunks that fit the cap, each buffer within buffer_bytes. Throws
+// InvalidArgument when they cannot hold even one primitive together with the most bin pairs one
+// primitive makes (CLR_MAX_CLIP_TRIANGLES screen-covering triangles).
 MemoryPlan plan_memory(const PlanInput& input);
 
 // Stream positions (relative to the draw's first element) that primitives [first, first + count)

@@ -57,12 +57,12 @@ void mark_clears_written(const RenderTarget& target, std::uint32_t clears) {
 
 }  // namespace
 
-Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, int tile_size,
-                   std::size_t memory_cap)
+Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, std::size_t memory_cap,
+                   std::size_t buffer_bytes)
     : context_(context),
       queue_(queue),
-      tile_size_(tile_size),
       memory_cap_(memory_cap),
+      buffer_bytes_(buffer_bytes),
       placeholder_(context, CL_MEM_READ_WRITE, 16),
       uniforms_(context, CL_MEM_READ_ONLY, sizeof(DrawUniforms)),
       counters_(context, CL_MEM_READ_WRITE, CLR_COUNTER_COUNT * sizeof(cl_uint)),
@@ -185,12 +185,13 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
   frame.source = &source;
   frame.topology = topology;
   frame.vertex_count = vertex_count;
-  frame.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size_));
-  frame.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size_));
+  const int tile_size = source.stages->tile_size;
+  frame.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size));
+  frame.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size));
   frame.shaded_vertex_bytes = program::shaded_vertex_bytes(program);
   frame.setup_triangle_bytes = program::setup_triangle_bytes(program);
-  frame.plan = plan_memory({memory_cap_, vertex_count, indexed, topology, primitives, frame.tiles_x * frame.tiles_y,
-                            frame.shaded_vertex_bytes, frame.setup_triangle_bytes});
+  frame.plan = plan_memory({memory_cap_, buffer_bytes_, vertex_count, indexed, topology, primitives,
+                            frame.tiles_x * frame.tiles_y, frame.shaded_vertex_bytes, frame.setup_triangle_bytes});
 
   // Validated: from here on the draw renders.
   uniforms.index_size = source.index_size;

@@ -26,8 +26,9 @@ namespace clraster::pipeline {
 
 // The stage kernels of one program.
 struct ProgramStages {
-  ProgramStages(const cl::Program& program, parallel::RadixSort& sort, std::size_t vertex_lanes)
-      : vertex(program, vertex_lanes), setup(program), bin(program, sort), raster(program) {}
+  ProgramStages(const cl::Program& program, parallel::RadixSort& sort, std::size_t vertex_lanes, int tile_size)
+      : tile_size(tile_size), vertex(program, vertex_lanes), setup(program), bin(program, sort), raster(program) {}
+  int tile_size;  // the program's stages were compiled for tiles of tile_size x tile_size pixels
   stages::VertexStage vertex;
   stages::SetupStage setup;
   stages::BinStage bin;
@@ -88,8 +89,9 @@ struct DrawSource {
 
 class Pipeline {
  public:
-  Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, int tile_size,
-           std::size_t memory_cap);
+  // buffer_bytes: the most one buffer may take (the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE).
+  Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, std::size_t memory_cap,
+           std::size_t buffer_bytes);
 
   DrawStats draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
                  const DrawState& state);
@@ -145,8 +147,8 @@ class Pipeline {
 
   const cl::Context& context_;
   cl_host::Queue& queue_;
-  int tile_size_;
   std::size_t memory_cap_;
+  std::size_t buffer_bytes_;
   cl::Buffer placeholder_;  // bound to kernel arguments a draw does not use
   cl::Buffer uniforms_;
   cl::Buffer counters_;

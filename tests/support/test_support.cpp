@@ -75,7 +75,7 @@ std::string builtin_stage_program() {
 
 cl::Program build_test_program(const std::string& name, const std::string& source) {
   ContextState& state = *shared_context().impl().state;
-  return state.programs.get(name, source, state.build_options());
+  return state.programs.get(name, source, state.stage_build_options(state.options.tile_size));
 }
 
 Context& shared_context() {
