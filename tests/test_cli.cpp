@@ -530,13 +530,6 @@ std::vector<BadModelFile> bad_model_files() {
 INSTANTIATE_TEST_SUITE_P(Files, RejectedModelFile, ::testing::ValuesIn(bad_model_files()),
                          [](const auto& info) { return info.param.name; });
 
-TEST(CliBadInput, NonFiniteCoordinatesAreNamed) {
-  const fs::path model = write_scratch_file("non-finite.obj", kObjTriangle + "v nan 0 0\nf 1 2 3\nf 4 2 3\n");
-  expect_render_rejected({model.string(), "--size", "16x16"}, "'" + model.string() +
-                                                                  "': face 1 of mesh 'defaultobject' has a corner "
-                                                                  "with a non-finite position (nan, 0, 0)");
-}
-
 struct CraftedModel {
   const char* name;
   const char* file_name;
