@@ -227,6 +227,55 @@ TEST(CliRender, GlBackendAgreesWithClraster) {
   EXPECT_TRUE(images_match(ours.picture, gl.picture, kNormalShading));
 }
 
+TEST(CliRender, TrianglesWithNonFiniteCornersAreDroppedWithOneWarningAndCounted) {
+  // The landscape with three vertices NaN or infinite, as scans have them, and the same landscape
+  // without the triangles that use them.
+  struct NonFiniteCoordinate {
+    std::uint32_t vertex;
+    int axis;
+    float value;
+  };
+  const std::vector<NonFiniteCoordinate> non_finite{{0, 0, NAN}, {40, 1, INFINITY}, {100, 2, -INFINITY}};
+  io::Mesh holed = landscape();
+  for (const auto& [vertex, axis, value] : non_finite) holed.positions[3 * vertex + axis] = value;
+  io::Mesh without = landscape();
+  without.indices.clear();
+  std::uint64_t dropped = 0;
+  for (std::size_t t = 0; t < landscape().triangle_count(); ++t) {
+    const auto first = landscape().indices.begin() + static_cast<std::ptrdiff_t>(3 * t);
+    const bool uses_non_finite = std::any_of(first, first + 3, [&](std::uint32_t corner) {
+      return std::any_of(non_finite.begin(), non_finite.end(), [&](const auto& bad) { return bad.vertex == corner; });
+    });
+    if (uses_non_finite) {
+      ++dropped;
+    } else {
+      without.indices.insert(without.indices.end(), first, first + 3);
+    }
+  }
+  ASSERT_GE(dropped, 3u);
+  const fs::path holed_file = write_scratch_file("holed.obj", to_obj(holed));
+  const fs::path without_file = write_scratch_file("without.obj", to_obj(without));
+  const Rendered expected = render("without.png", {without_file.string(), "--size", "80x60"});
+  ASSERT_GT(covered_pixel_count(expected.picture), 400u);
+
+  const std::string warning = "clraster: warning: " + holed_file.string() + ": " + std::to_string(dropped) +
+                              " triangles dropped: a corner's position, normal or texture coordinate is NaN or "
+                              "infinite\n";
+  const Rendered ours = render_with_warnings("holed.png", {holed_file.string(), "--size", "80x60", "--stats"});
+  EXPECT_EQ(ours.err, warning);
+  const json stats = json::parse(ours.out);
+  EXPECT_EQ(stats.at("triangles"), landscape().triangle_count());
+  EXPECT_EQ(stats.at("triangles_dropped"), dropped);
+  EXPECT_TRUE(images_match(ours.picture, expected.picture, kExact));
+
+  // OpenGL draws the same, and counts nothing of its own.
+  const Rendered gl =
+      render_with_warnings("holed-gl.png", {holed_file.string(), "--size", "80x60", "--stats", "--backend", "gl"});
+  EXPECT_EQ(gl.err, warning);
+  EXPECT_TRUE(json::parse(gl.out).at("triangles_dropped").is_null()) << gl.out;
+  EXPECT_TRUE(images_match(gl.picture, expected.picture, kNormalShading));
+}
+
 TEST(CliCompare, ReportsTheDifferencesAsJson) {
   // 4x2 pixels, black but for: pixel 0 the same red in both; pixel 1 grey, one channel 10 apart;
   // pixel 2 blue in A only; pixel 3 green in B only.
@@ -530,13 +579,6 @@ std::vector<BadModelFile> bad_model_files() {
 INSTANTIATE_TEST_SUITE_P(Files, RejectedModelFile, ::testing::ValuesIn(bad_model_files()),
                          [](const auto& info) { return info.param.name; });
 
-TEST(CliBadInput, NonFiniteCoordinatesAreNamed) {
-  const fs::path model = write_scratch_file("non-finite.obj", kObjTriangle + "v nan 0 0\nf 1 2 3\nf 4 2 3\n");
-  expect_render_rejected({model.string(), "--size", "16x16"}, "'" + model.string() +
-                                                                  "': face 1 of mesh 'defaultobject' has a corner "
-                                                                  "with a non-finite position (nan, 0, 0)");
-}
-
 struct CraftedModel {
   const char* name;
   const char* file_name;
@@ -565,6 +607,8 @@ INSTANTIATE_TEST_SUITE_P(
         CraftedModel{"ObjOfPointsOnly", "points.obj", kObjTriangle + "p 1\np 2\np 3\n"},
         CraftedModel{"ObjOfLinesOnly", "lines.obj", kObjTriangle + "l 1 2\nl 2 3\n"},
         CraftedModel{"PlyOfPointsOnly", "points.ply", kPlyVertices + "end_header\n0 0 0\n1 0 0\n0 1 0\n"},
+        CraftedModel{"ObjWhoseEveryTriangleHasANonFiniteCorner", "non-finite.obj",
+                     kObjTriangle + "v nan 0 0\nv 0 inf 0\nf 4 2 3\nf 1 5 3\n"},
         CraftedModel{"ObjFaceIndexPastTheEnd", "past-end.obj", kObjTriangle + "f 1 2 3\nf 1 2 7\n"},
         CraftedModel{"ObjFaceIndexZero", "zero.obj", kObjTriangle + "f 0 1 2\n"},
         CraftedModel{"ObjRelativeIndexBeforeTheStart", "before-start.obj", kObjTriangle + "f -1 -2 -7\n"},

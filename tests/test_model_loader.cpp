@@ -442,30 +442,85 @@ endsolid zero
   for (std::uint32_t v = 0; v < 3; ++v) EXPECT_TRUE(near(normal(mesh, v), {0, 0, 1}, 1e-6));
 }
 
-TEST_F(CraftedModel, NonFiniteCoordinatesAreErrors) {
-  // Each message names the face, its mesh (assimp's name for an OBJ file's unnamed object) and the
-  // values.
-  EXPECT_NE(load_error(write("nan.obj", "v 1 0 0\nv nan 0 0\nv 0 1 0\nv 1 1 0\nf 1 4 3\nf 1 2 3\n"))
-                .find("face 1 of mesh 'defaultobject' has a corner with a non-finite position (nan, 0, 0)"),
-            std::string::npos);
-  EXPECT_NE(load_error(write("inf.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 inf 0\n3 0 1 2\n"))
-                .find("has a corner with a non-finite position (0, inf, 0)"),
-            std::string::npos);
-  EXPECT_NE(load_error(write("normal.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 -inf 1\n"
-                                           "f 1//1 2//1 3//2\n"))
-                .find("has a corner with a non-finite normal (0, -inf, 1)"),
-            std::string::npos);
+// A scan as depth sensors write it: vertex 1 is NaN and vertex 5 infinite, so faces 1 and 3 go,
+// and with them the vertices only they use, 1, 5 and (finite) 6.
+constexpr const char* kScanPly = R"(ply
+format ascii 1.0
+element vertex 7
+property float x
+property float y
+property float z
+element face 4
+property list uchar int vertex_indices
+end_header
+0 0 0
+nan nan nan
+1 0 0
+0 1 0
+1 1 0
+2 0 inf
+4 4 0
+3 0 2 3
+3 1 2 4
+3 2 4 3
+3 4 5 6
+)";
+
+TEST_F(CraftedModel, NonFinitePositionsDropTheirTrianglesAndTheVerticesOnlyTheyUse) {
+  const Model model = load(write("scan.ply", kScanPly));
+  EXPECT_EQ(model.triangles_dropped, 2u);
+  // Vertices 0, 2, 3 and 4, numbered anew in order.
+  EXPECT_EQ(model.positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0}));
+  EXPECT_EQ(model.indices, (std::vector<std::uint32_t>{0, 1, 2, 1, 3, 2}));
+  EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, 6, 0}}));
+  // Smoothed over the kept faces alone: a dropped one would have made vertices 2 and 4 zero.
+  for (std::uint32_t v = 0; v < model.vertex_count(); ++v) {
+    EXPECT_TRUE(near(normal(model, v), {0, 0, 1}, 1e-6)) << "vertex " << v;
+  }
+  // Vertex 6, (4, 4, 0), would have moved it.
+  const BoundingSphere sphere = bounding_sphere(model);
+  EXPECT_TRUE(near({sphere.center.x, sphere.center.y, sphere.center.z}, {0.5, 0.5, 0}, 0));
+}
+
+TEST_F(CraftedModel, NonFinitePositionsAndNormalsDropTheirTrianglesInEveryFormat) {
+  // assimp's OBJ reader gives every face corner a vertex of its own: the kept face's three.
+  const Model nan_obj = load(write("nan.obj", "v 1 0 0\nv nan 0 0\nv 0 1 0\nv 1 1 0\nf 1 4 3\nf 1 2 3\n"));
+  EXPECT_EQ(nan_obj.triangles_dropped, 1u);
+  EXPECT_EQ(nan_obj.positions, (std::vector<float>{1, 0, 0, 1, 1, 0, 0, 1, 0}));
+  EXPECT_EQ(nan_obj.indices, (std::vector<std::uint32_t>{0, 1, 2}));
+
+  const Model inf_off = load(write("inf.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 inf 0\n0 1 0\n-inf 0 0\n"
+                                              "3 0 1 2\n3 0 1 3\n3 4 0 3\n"));
+  EXPECT_EQ(inf_off.triangles_dropped, 2u);
+  ASSERT_EQ(inf_off.triangle_count(), 1u);
+  EXPECT_TRUE(near(corner(inf_off, 0, 0), {0, 0, 0}, 0));
+  EXPECT_TRUE(near(corner(inf_off, 0, 1), {1, 0, 0}, 0));
+  EXPECT_TRUE(near(corner(inf_off, 0, 2), {0, 1, 0}, 0));
+  EXPECT_EQ(inf_off.vertex_count(), 3u);
+
+  // A normal that is not finite would shade its triangle with undefined values.
+  const Model normal_obj = load(write("normal.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 0 -inf 1\n"
+                                                    "f 1//1 2//1 3//1\nf 2//1 4//2 3//1\n"));
+  EXPECT_EQ(normal_obj.triangles_dropped, 1u);
+  EXPECT_EQ(normal_obj.positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  EXPECT_EQ(normal_obj.normals, (std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}));
 }
 
 TEST_F(CraftedModel, NonFiniteVerticesNoTriangleUsesAreIgnored) {
   // Also after the node's transform, which moves every vertex.
-  const Mesh mesh = load(write("unused.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\nnan 5 5\n3 0 1 2\n"));
-  EXPECT_EQ(mesh.triangle_count(), 1u);
+  const Model model = load(write("unused.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\nnan 5 5\n3 0 1 2\n"));
+  EXPECT_EQ(model.triangle_count(), 1u);
+  EXPECT_EQ(model.triangles_dropped, 0u);
 }
 
-TEST(LoadModel, GltfWithInfinitiesIsAnError) {
+TEST(LoadModel, GltfWhoseEveryTriangleIsDroppedIsAnError) {
+  // Every position has an infinite x: nothing is left to draw or to frame.
   const fs::path path = kModels / "glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb";
-  EXPECT_NE(load_error(path).find("has a corner with a non-finite position"), std::string::npos);
+  const std::string message = load_error(path);
+  EXPECT_NE(message.find(": no triangles left: 12 triangles dropped: a corner's position, normal or texture "
+                         "coordinate is NaN or infinite"),
+            std::string::npos)
+      << message;
 }
 
 TEST_F(CraftedModel, LargeScalesKeepUnitNormals) {
@@ -488,23 +543,36 @@ TEST_F(CraftedModel, LargeScalesKeepUnitNormals) {
   for (std::uint32_t v = 0; v < 3; ++v) EXPECT_TRUE(near(normal(mesh, v), {0, 0, 1}, 1e-6));
 }
 
-TEST_F(CraftedModel, PositionsMovedBeyondFloatRangeAreErrors) {
-  // Finite in the file; the node's scale carries x = 1 to 3e38 * 2e38.
-  write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}));
-  const std::string gltf = R"({
+// The triangle (0,0,0) (1,0,0) (0,1,0), instanced by node 1, whose scale with its parent's carries
+// x = 1 to 3e38 * 2e38, and by node 2 as it is.
+constexpr const char* kScaledBeyondFloatRangeGltf = R"({
   "asset": {"version": "2.0"},
   "buffers": [{"uri": "data.bin", "byteLength": 36}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],
   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
                  "min": [0, 0, 0], "max": [1, 1, 0]}],
   "meshes": [{"name": "huge", "primitives": [{"attributes": {"POSITION": 0}}]}],
-  "nodes": [{"scale": [3e38, 3e38, 3e38], "children": [1]}, {"mesh": 0, "scale": [2e38, 2e38, 2e38]}],
-  "scenes": [{"nodes": [0]}],
+  "nodes": [{"scale": [3e38, 3e38, 3e38], "children": [1]}, {"mesh": 0, "scale": [2e38, 2e38, 2e38]},
+            {"mesh": 0}],
+  "scenes": [{"nodes": [0, 2]}],
   "scene": 0
 })";
-  EXPECT_NE(load_error(write("huge.gltf", gltf))
-                .find("mesh 'huge' is moved beyond the range of float coordinates by its node's transform"),
-            std::string::npos);
+
+TEST_F(CraftedModel, PositionsMovedBeyondFloatRangeDropTheirTriangles) {
+  write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  const Model model = load(write("huge.gltf", kScaledBeyondFloatRangeGltf));
+  EXPECT_EQ(model.triangles_dropped, 1u);
+  // Node 2's instance alone, with its flat normal.
+  EXPECT_EQ(model.positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  EXPECT_EQ(model.normals, (std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1}));
+
+  std::string only_huge = kScaledBeyondFloatRangeGltf;
+  only_huge.replace(only_huge.find("[0, 2]"), 6, "[0]");
+  const std::string message = load_error(write("only_huge.gltf", only_huge));
+  EXPECT_NE(message.find(": no triangles left: 1 triangle dropped: a corner's position, normal or texture coordinate "
+                         "is NaN or infinite"),
+            std::string::npos)
+      << message;
 }
 
 // ---- Texture coordinates, materials and parts ----------------------------------------------------
@@ -1018,15 +1086,20 @@ TEST_F(CraftedModel, TextureWithoutAnImageNameIsLeftOut) {
             std::vector<std::string>{"material 'second set': its base colour texture names no image"});
 }
 
-TEST_F(CraftedModel, NonFiniteTexcoordsAreErrors) {
+TEST_F(CraftedModel, NonFiniteTexcoordsDropTheirTriangles) {
   write("data.bin", bytes_of<float>({0, 0, 0, 1, 0, 0, 0, 1, 0}) +
                         bytes_of<float>({0.25f, 0.5f, INFINITY, 0.5f, 0, 0.75f}) +
                         bytes_of<std::uint16_t>({0, 1, 2}));
-  // Vertex 1's (inf, 0.5), v turned up: 1 - 0.5; assimp names an unnamed glTF mesh by its index.
-  const std::string message = load_error(write("two_sets.gltf", kTwoSetsGltf));
-  EXPECT_NE(message.find("face 0 of mesh 'meshes[0]' has a corner with a non-finite texture coordinate (inf, 0.5)"),
-            std::string::npos)
-      << message;
+  // Mesh 0's triangle has vertex 1's (inf, 0.5): only mesh 1's is left, and with it neither the
+  // material nor the texture coordinates of mesh 0.
+  const Model model = load(write("two_sets.gltf", kTwoSetsGltf));
+  EXPECT_EQ(model.triangles_dropped, 1u);
+  EXPECT_EQ(model.triangle_count(), 1u);
+  EXPECT_TRUE(model.texcoords.empty());
+  ASSERT_EQ(model.materials.size(), 1u);
+  EXPECT_EQ(model.materials[0].name, "");
+  EXPECT_EQ(model.parts, (std::vector<ModelPart>{{0, 3, 0}}));
+  EXPECT_TRUE(model.material_warnings.empty());
 
   // assimp's OBJ reader itself reads non-finite texture coordinates as 0.
   const Model obj =

@@ -61,6 +61,9 @@ io::Model load_scene(const RenderOptions& options) {
   } else {
     model = io::load_model(options.model, warnings);
   }
+  if (model.triangles_dropped > 0) {
+    warnings.push_back(options.model + ": " + io::describe_triangles_dropped(model.triangles_dropped));
+  }
   print_warnings(warnings);
   return model;
 }
@@ -184,7 +187,8 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
   rendering.stats = {{"backend", "clraster"},
                      {"device", context.device().name},
                      {"draws", calls.size()},
-                     {"triangles_dropped", frame_stats.triangles_dropped},
+                     // Those the model loader left out, and those the pipeline dropped.
+                     {"triangles_dropped", model.triangles_dropped + frame_stats.triangles_dropped},
                      {"chunks", frame_stats.chunks},
                      {"tile_triangle_pairs", frame_stats.tile_triangle_pairs},
                      {"peak_memory_bytes", frame_stats.peak_memory_bytes},
@@ -221,7 +225,8 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
     gl.finish();
   });
   rendering.image = gl.read_color();
-  // OpenGL does not say how it drew: clraster's own counters are null.
+  // OpenGL does not say how it drew: clraster's own counters are null (triangles_dropped too: the
+  // loader's count alone would pass for the whole; the warning line gives it).
   rendering.stats = {{"backend", "gl"},
                      {"device", gl.renderer()},
                      {"draws", material_draws ? material_draws->draw_count() : 1},
@@ -302,7 +307,8 @@ int render(const RenderOptions& options) {
       stats["median_ms"] = sorted.size() % 2 ? sorted[middle] : (sorted[middle - 1] + sorted[middle]) / 2;
       stats["min_ms"] = sorted.front();
     }
-    stats["triangles"] = model.triangle_count();
+    // The model file's, those the loader left out included: triangles_dropped counts them too.
+    stats["triangles"] = model.triangle_count() + model.triangles_dropped;
     stats["width"] = options.width;
     stats["height"] = options.height;
     stats["frames"] = options.frames;

@@ -30,7 +30,6 @@
 #include <glm/matrix.hpp>
 
 #include "clraster/clraster.hpp"
-#include "io/format.hpp"
 #include "io/procedural.hpp"
 
 namespace clraster::io {
@@ -436,36 +435,61 @@ bool has_nonzero_normal(const aiMesh& source) {
                                             [](const aiVector3D& n) { return !(n.x == 0 && n.y == 0 && n.z == 0); });
 }
 
-// The first triangle corner of `mesh` whose attribute (`values`, `components` per vertex) has a NaN
-// or infinite component, as its index in mesh.indices. Vertices no triangle uses do not count.
-std::optional<std::size_t> first_non_finite_corner(const Mesh& mesh, const std::vector<float>& values,
-                                                   std::size_t components) {
-  for (std::size_t corner = 0; corner < mesh.indices.size(); ++corner) {
-    const auto begin = values.begin() + static_cast<std::ptrdiff_t>(components * mesh.indices[corner]);
-    if (!std::all_of(begin, begin + static_cast<std::ptrdiff_t>(components), [](float x) { return std::isfinite(x); })) {
-      return corner;
-    }
-  }
-  return std::nullopt;
+// Whether `vertex` has no NaN or infinite component in `values`, `components` per vertex.
+bool finite_at(const std::vector<float>& values, std::size_t components, std::uint32_t vertex) {
+  const float* begin = values.data() + components * vertex;
+  return std::all_of(begin, begin + components, [](float x) { return std::isfinite(x); });
 }
 
-// Refuses a triangle with a NaN or infinite position, normal or texture coordinate at a corner. The
-// message counts faces, which are in the file's order within a mesh; assimp's vertices are not
-// (its OBJ reader makes one per face corner).
-void require_finite_corners(const Mesh& mesh, const std::string& mesh_name, const std::string& path) {
-  const auto require_finite = [&](const char* attribute, const std::vector<float>& values, std::size_t components) {
-    const std::optional<std::size_t> corner = first_non_finite_corner(mesh, values, components);
-    if (!corner) return;
-    std::string text;
-    for (std::size_t k = 0; k < components; ++k) {
-      text += (k == 0 ? "(" : ", ") + format_number(values[components * mesh.indices[*corner] + k]);
+// The triangles a mesh loses for NaN or infinite values, and the vertices they used.
+struct DroppedTriangles {
+  std::uint64_t count = 0;
+  std::vector<bool> vertices;  // by vertex: a corner of a dropped triangle; empty until one is dropped
+};
+
+// Removes the triangles of `mesh` with a corner whose vertex `finite_vertex` refuses, keeping the
+// others in order, and adds them to `dropped`.
+template <typename FiniteVertex>
+void drop_non_finite_triangles(Mesh& mesh, FiniteVertex finite_vertex, DroppedTriangles& dropped) {
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const std::uint32_t* corners = &mesh.indices[3 * t];
+    if (finite_vertex(corners[0]) && finite_vertex(corners[1]) && finite_vertex(corners[2])) {
+      for (int k = 0; k < 3; ++k) mesh.indices[3 * kept + k] = corners[k];
+      ++kept;
+      continue;
     }
-    fail(path, "face " + std::to_string(*corner / 3) + " of mesh '" + mesh_name + "' has a corner with a non-finite " +
-                   attribute + " " + text + ")");
+    if (dropped.vertices.empty()) dropped.vertices.resize(mesh.vertex_count());
+    for (int k = 0; k < 3; ++k) dropped.vertices[corners[k]] = true;
+    ++dropped.count;
+  }
+  mesh.indices.resize(3 * kept);
+}
+
+// Removes the vertices that dropped triangles used and no kept one does, numbering the others
+// anew, so that what reads every vertex (bounding spheres, smooth normals) sees only what is drawn.
+void remove_vertices_of_dropped_triangles(Mesh& mesh, const DroppedTriangles& dropped) {
+  if (dropped.count == 0) return;
+  std::vector<bool> removed = dropped.vertices;
+  for (std::uint32_t vertex : mesh.indices) removed[vertex] = false;
+  std::vector<std::uint32_t> new_index(mesh.vertex_count());
+  std::uint32_t kept = 0;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    new_index[v] = kept;
+    kept += removed[v] ? 0 : 1;
+  }
+  const auto keep_vertices = [&](std::vector<float>& values, std::size_t components) {
+    std::size_t end = 0;
+    for (std::size_t v = 0; v < removed.size(); ++v) {
+      if (removed[v]) continue;
+      for (std::size_t k = 0; k < components; ++k) values[end++] = values[components * v + k];
+    }
+    values.resize(end);
   };
-  require_finite("position", mesh.positions, 3);
-  require_finite("normal", mesh.normals, 3);
-  if (!mesh.texcoords.empty()) require_finite("texture coordinate", mesh.texcoords, 2);
+  keep_vertices(mesh.positions, 3);
+  keep_vertices(mesh.normals, 3);
+  if (!mesh.texcoords.empty()) keep_vertices(mesh.texcoords, 2);
+  for (std::uint32_t& vertex : mesh.indices) vertex = new_index[vertex];
 }
 
 // The triangles of one assimp mesh in its own coordinates, with the file's normals or zeros, and its
@@ -513,7 +537,6 @@ Mesh triangles_of(const aiMesh& source, bool file_normals, SkippedPrimitives& sk
       mesh.texcoords.insert(mesh.texcoords.end(), {uv.x, uv.y});
     }
   }
-  require_finite_corners(mesh, source.mName.C_Str(), path);
   return mesh;
 }
 
@@ -636,10 +659,12 @@ struct Piece {
 };
 
 // Every mesh instance of the node tree, depth first in the file's order, moved by its node's
-// accumulated transform. Normals come from the file, or are flat for glTF; the others are left
-// for smooth_normals, which must see every instance because instances that touch share them.
+// accumulated transform, without the triangles that have a NaN or infinite value at a corner
+// (counted in `triangles_dropped`). Normals come from the file, or are flat for glTF; the others
+// are left for smooth_normals, which must see every instance because instances that touch share
+// them.
 std::vector<Piece> mesh_instances(const aiScene& scene, bool gltf, SkippedPrimitives& skipped,
-                                  const std::string& path) {
+                                  std::uint64_t& triangles_dropped, const std::string& path) {
   std::vector<Piece> pieces;
   struct Visit {
     const aiNode* node;
@@ -656,12 +681,21 @@ std::vector<Piece> mesh_instances(const aiScene& scene, bool gltf, SkippedPrimit
       const bool file_normals = has_nonzero_normal(source);
       Mesh piece = triangles_of(source, file_normals, skipped, path);
       if (piece.indices.empty()) continue;
+      DroppedTriangles dropped;
+      // Before the transform, which turns a NaN normal into a zero one.
+      drop_non_finite_triangles(
+          piece,
+          [&](std::uint32_t v) {
+            return finite_at(piece.positions, 3, v) && finite_at(piece.normals, 3, v) &&
+                   (piece.texcoords.empty() || finite_at(piece.texcoords, 2, v));
+          },
+          dropped);
       transform(piece, to_glm(node_transform));
       // Finite in the file, but a node's scale can still carry a position beyond float's range.
-      if (first_non_finite_corner(piece, piece.positions, 3)) {
-        fail(path, std::string("mesh '") + source.mName.C_Str() +
-                       "' is moved beyond the range of float coordinates by its node's transform");
-      }
+      drop_non_finite_triangles(piece, [&](std::uint32_t v) { return finite_at(piece.positions, 3, v); }, dropped);
+      remove_vertices_of_dropped_triangles(piece, dropped);
+      triangles_dropped += dropped.count;
+      if (piece.indices.empty()) continue;
       if (file_normals) {
         pieces.push_back({std::move(piece), false, source.mMaterialIndex});
       } else if (gltf) {
@@ -790,6 +824,11 @@ Material material_of(const aiScene& scene, unsigned scene_index, std::size_t ind
 
 }  // namespace
 
+std::string describe_triangles_dropped(std::uint64_t count) {
+  return std::to_string(count) + (count == 1 ? " triangle" : " triangles") +
+         " dropped: a corner's position, normal or texture coordinate is NaN or infinite";
+}
+
 std::string material_label(const Material& material, std::size_t index) {
   return material.name.empty() ? "material " + std::to_string(index) : "material '" + material.name + "'";
 }
@@ -800,11 +839,13 @@ Model load_model(const std::string& path, std::vector<std::string>& warnings) {
   const aiScene& scene = read_scene(importer, path);
   check_references(importer, path);
   SkippedPrimitives skipped;
-  std::vector<Piece> pieces = mesh_instances(scene, is_gltf(path), skipped, path);
+  std::uint64_t triangles_dropped = 0;
+  std::vector<Piece> pieces = mesh_instances(scene, is_gltf(path), skipped, triangles_dropped, path);
 
   const std::vector<std::string> skipped_messages = skipped.describe();
   if (pieces.empty()) {
-    std::string reason = "no triangles in the file";
+    std::string reason = triangles_dropped == 0 ? "no triangles in the file"
+                                                : "no triangles left: " + describe_triangles_dropped(triangles_dropped);
     for (std::size_t i = 0; i < skipped_messages.size(); ++i) reason += (i == 0 ? " (" : ", ") + skipped_messages[i];
     fail(path, skipped_messages.empty() ? reason : reason + ")");
   }
@@ -822,7 +863,8 @@ Model load_model(const std::string& path, std::vector<std::string>& warnings) {
   for (unsigned scene_index : scene_materials) {
     materials.push_back(material_of(scene, scene_index, materials.size(), path, material_warnings));
   }
-  Model model{merged(std::move(pieces), path), std::move(materials), std::move(parts), std::move(material_warnings)};
+  Model model{merged(std::move(pieces), path), std::move(materials), std::move(parts), std::move(material_warnings),
+              triangles_dropped};
   warnings.insert(warnings.end(), skipped_messages.begin(), skipped_messages.end());
   return model;
 }

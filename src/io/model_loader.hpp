@@ -61,7 +61,14 @@ struct Model : Mesh {
   // 'Body': its base colour texture is mapped by texture coordinate set 1, which is not loaded
   // (only set 0 is)": for renderers that draw with the materials to pass on.
   std::vector<std::string> material_warnings;
+  // Triangles of the file left out for a NaN or infinite value at a corner (load_model), for front
+  // ends to report (describe_triangles_dropped) and to count with what the pipeline drops.
+  std::uint64_t triangles_dropped = 0;
 };
+
+// "3 triangles dropped: a corner's position, normal or texture coordinate is NaN or infinite": what
+// Model::triangles_dropped counts, for warnings.
+std::string describe_triangles_dropped(std::uint64_t count);
 
 // Loads the triangles of a model file in any format assimp reads (OBJ, glTF 2.0 .gltf/.glb, PLY,
 // STL, OFF, ...) into one triangle list in the file's object space:
@@ -81,14 +88,19 @@ struct Model : Mesh {
 //   them gets (0, 0) when others have them, and a model without any has none;
 // - each mesh instance is drawn with its mesh's material; instances that follow each other with the
 //   same material make one part;
+// - a triangle with a NaN or infinite position, normal or texture coordinate at a corner, in the
+//   file or (a position) after its node's transform, is left out and counted in
+//   Model::triangles_dropped: scans carry such vertices and OpenGL draws the rest, but a non-finite
+//   normal or texture coordinate would colour the triangle with undefined values. The vertices
+//   that only such triangles use are left out with them, so that bounding spheres and smoothed
+//   normals see only what is drawn; vertices no triangle uses stay as they are;
 // - texture files are neither opened nor checked. A base colour texture that names no image, or
 //   that the file embeds as raw texels rather than as an image file (Quake and Half-Life MDL), is
 //   left out, and one mapped by a texture coordinate set other than the first is kept, each with a
 //   line in Model::material_warnings.
 // Throws clraster::InvalidArgument with one line naming the file when the file is missing or
-// unreadable, assimp cannot parse it, it has no triangles, a triangle has a NaN or infinite
-// position, normal or texture coordinate at a corner (the message names the face, its mesh and the
-// values) or a node's transform moves a position beyond float's range, faces reference vertices,
+// unreadable, assimp cannot parse it, it has no triangles (also when every one was left out for a
+// NaN or infinite value: there is nothing to draw or to frame), faces reference vertices,
 // normals or texture coordinates that do not exist (also when assimp would repair that by dropping
 // the faces, normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file
 // has what assimp reads wrongly: triangle strips or floating-point vertex indices.
