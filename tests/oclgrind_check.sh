@@ -26,6 +26,11 @@ if grep -qE "Invalid (read|write)|[Dd]ata race|Uninitialized|Oclgrind -|Kernel: 
   echo "oclgrind_check: Oclgrind reported errors" >&2
   exit 1
 fi
+# Oclgrind has OpenCL's minimum of local memory, which tiles of 32x32 given explicitly do not fit.
+if ! grep -q "refused 32x32 tiles: .*local memory; device Oclgrind Simulator has 32768" "$work/oclgrind.log"; then
+  echo "oclgrind_check: tiles of 32x32 were not refused for their local memory under Oclgrind" >&2
+  exit 1
+fi
 # Both runs drew every target (oclgrind_scene checks that); they must have drawn the same bytes.
 different=0
 for file in "$work"/device/*.bin; do

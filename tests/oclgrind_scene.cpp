@@ -181,6 +181,22 @@ void fragment_span(clr_span_fragment* f) {
     quads.count = 3;
     target.draw(quads);
     keep(output, "span_program", target.read_color().rgba);
+
+    // Tiles of 32x32 given explicitly are refused where the device's local memory cannot hold the
+    // built-in shading's tile (oclgrind_check.sh requires this under Oclgrind, which has 32 KiB).
+    if (context.device().local_memory_bytes < 40 * 1024) {
+      options.tile_size = 32;
+      clraster::Context large_tiles(options);
+      const clraster::VertexBuffer large_tile_vertices(large_tiles, positions, normals);
+      clraster::Framebuffer large_tile_target(large_tiles, 37, 21);
+      try {
+        large_tile_target.draw(clraster::DrawCall{&large_tile_vertices});
+        throw std::runtime_error("tiles of 32x32 were not refused with " +
+                                 std::to_string(context.device().local_memory_bytes) + " bytes of local memory");
+      } catch (const clraster::InvalidArgument& error) {
+        std::printf("oclgrind_scene: refused 32x32 tiles: %s\n", error.what());
+      }
+    }
     std::printf("oclgrind_scene: drew %s on %s, tiles of %d\n", output.string().c_str(), context.device().name.c_str(),
                 context.options().tile_size);
     return 0;

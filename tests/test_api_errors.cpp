@@ -10,7 +10,9 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <cstdlib>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <span>
 #include <string>
@@ -38,13 +40,77 @@ TEST(ContextOptions, TileSizesOtherThan8_16_32AreRejected) {
 }
 
 // The default leaves the tile size to the context, which takes it from its work-group shapes: the
-// test device is PoCL's CPU one.
+// test devices are CPUs (PoCL's and Intel's), whose work-groups hold a 16x16 tile's pixels.
 TEST(ContextOptions, DeviceTileSizeFollowsTheWorkGroupShapes) {
   EXPECT_EQ(ContextOptions{}.tile_size, kDeviceTileSize);
-  const Context context{ContextOptions{}};
-  ASSERT_EQ(context.device().type, "CPU") << "the tests run on PoCL's CPU device";
+  const Context context{ContextOptions{.work_group_shape = WorkGroupShape::Device}};
+  ASSERT_EQ(context.device().type, "CPU") << "the tests run on CPU devices";
   EXPECT_EQ(context.options().tile_size, kCpuShapeTileSize);
   EXPECT_EQ(Context(ContextOptions{.work_group_shape = WorkGroupShape::Wide}).options().tile_size, kGpuShapeTileSize);
+}
+
+// Sets an environment variable for the life of the object, then puts back what it was.
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    setenv(name, value, 1);
+  }
+  ~ScopedEnvironment() {
+    if (old_) setenv(name_, old_->c_str(), 1);
+    else unsetenv(name_);
+  }
+  ScopedEnvironment(const ScopedEnvironment&) = delete;
+  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+TEST(ContextOptions, WorkGroupShapeLeftUnsetComesFromTheEnvironment) {
+  {
+    const ScopedEnvironment wide("CLRASTER_WORK_GROUP_SHAPE", "wide");
+    EXPECT_EQ(Context().options().work_group_shape, WorkGroupShape::Wide);
+    EXPECT_EQ(Context().options().tile_size, kGpuShapeTileSize);
+    EXPECT_EQ(Context(ContextOptions{.work_group_shape = WorkGroupShape::Device}).options().work_group_shape,
+              WorkGroupShape::Device);
+  }
+  {
+    const ScopedEnvironment device("CLRASTER_WORK_GROUP_SHAPE", "device");
+    EXPECT_EQ(Context().options().work_group_shape, WorkGroupShape::Device);
+  }
+  const ScopedEnvironment sideways("CLRASTER_WORK_GROUP_SHAPE", "sideways");
+  EXPECT_TRUE(throws([] { Context context; }, {"CLRASTER_WORK_GROUP_SHAPE='sideways' is neither 'device' nor 'wide'"}));
+}
+
+// What the device cannot hold of a program is refused when the program is made, naming the device
+// and its limit: uniforms beyond its constant memory, and resources beyond its kernel arguments.
+TEST(DeviceLimits, UniformsBeyondTheConstantMemoryAreRejected) {
+  Context& context = shared_context();
+  const std::size_t limit = context.device().constant_buffer_bytes;
+  const std::size_t elements = limit / 16 + 1;  // float4s: one more than the device holds
+  const std::string source = "clr_uniform(float4, table[" + std::to_string(elements) +
+                             "])\nclr_output(float4, color)\n"
+                             "void vertex(clr_vertex* v) { v->position = v->uniforms->table[0]; }\n"
+                             "void fragment(clr_fragment* f) { f->out.color = (float4)(1.0f); }\n";
+  EXPECT_TRUE(throws([&] { Program program(context, source, "big_table.cl"); },
+                     {"program big_table.cl's uniforms take " + std::to_string(elements * 16) + " bytes",
+                      "device " + context.device().name + " has " + std::to_string(limit)}));
+}
+
+TEST(DeviceLimits, ResourcesBeyondTheKernelArgumentsAreRejected) {
+  Context& context = shared_context();
+  // Each texture is one more argument of every stage kernel: 16 bytes at most each.
+  const std::size_t textures = context.device().parameter_bytes / 16 + 1;
+  std::string source = "clr_output(float4, color)\n";
+  for (std::size_t i = 0; i < textures; ++i) source += "clr_texture(t" + std::to_string(i) + ")\n";
+  source += "void vertex(clr_vertex* v) { v->position = (float4)(0.0f, 0.0f, 0.0f, 1.0f); }\n"
+            "void fragment(clr_fragment* f) { f->out.color = (float4)(1.0f); }\n";
+  EXPECT_TRUE(throws([&] { Program program(context, source, "many_textures.cl"); },
+                     {"program many_textures.cl cannot run: its kernel", "arguments",
+                      "device " + context.device().name + " has " + std::to_string(context.device().parameter_bytes) +
+                          " bytes for them"}));
 }
 
 TEST(ContextOptions, DeviceThatDoesNotExistIsRejected) {

@@ -5,6 +5,7 @@
 #include "io/camera.hpp"
 #include "io/image_io.hpp"
 #include "io/procedural.hpp"
+#include "pipeline/memory_plan.hpp"
 #include "support/cli_support.hpp"
 #include "support/test_support.hpp"
 
@@ -109,6 +110,45 @@ TEST(Chunking, ScreenCoveringClippedPrimitivesUnderTheSmallestCapMatchOnePiece) 
   EXPECT_LE(chunked.stats.peak_memory_bytes, kMinMemoryCap);
   EXPECT_EQ(chunked.stats.triangles, scene.mesh.triangle_count());
   EXPECT_TRUE(images_match(chunked.image, whole.image, kExact));
+}
+
+// A device allocates buffers up to a size (CL_DEVICE_MAX_MEM_ALLOC_SIZE, a quarter of its memory by
+// OpenCL's minimum, Oclgrind's 128 MiB): the plan keeps every buffer within it, taking smaller chunks
+// and shading vertices per chunk where the whole mesh's would not fit one buffer.
+TEST(Chunking, ThePlanKeepsEveryBufferWithinTheDevicesLargestAllocation) {
+  pipeline::PlanInput input;
+  input.memory_cap = kDefaultMemoryCap;
+  input.buffer_bytes = kDefaultMemoryCap;
+  input.vertex_count = 2'000'000;
+  input.indexed = true;
+  input.topology = CLR_TOPOLOGY_LIST;
+  input.primitive_count = 4'000'000;
+  input.tile_count = 60 * 34;
+  input.shaded_vertex_bytes = 64;
+  input.setup_triangle_bytes = 168;
+  const pipeline::MemoryPlan unlimited = pipeline::plan_memory(input);
+  ASSERT_TRUE(unlimited.shade_all_vertices);
+
+  input.buffer_bytes = std::size_t{16} << 20;  // below the 122 MiB of transformed vertices
+  const pipeline::MemoryPlan limited = pipeline::plan_memory(input);
+  EXPECT_FALSE(limited.shade_all_vertices);
+  EXPECT_LT(limited.chunk_primitives, unlimited.chunk_primitives);
+  for (std::size_t i = 0; i < limited.buffer_bytes.size(); ++i) {
+    EXPECT_LE(limited.buffer_bytes[i], input.buffer_bytes) << "scratch buffer " << i;
+  }
+
+  // Not even one primitive's bin pairs fit: refused, naming the device's limit.
+  input.buffer_bytes = 4 * input.tile_count;
+  EXPECT_THROW(
+      {
+        try {
+          pipeline::plan_memory(input);
+        } catch (const InvalidArgument& error) {
+          EXPECT_TRUE(std::string(error.what()).find("the device allocates at most") != std::string::npos) << error.what();
+          throw;
+        }
+      },
+      InvalidArgument);
 }
 
 TEST(Determinism, TheSameRenderTwiceInOneProcessIsBitIdentical) {

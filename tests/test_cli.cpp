@@ -152,6 +152,7 @@ TEST(CliInterface, DevicesListsEveryOpenClDevice) {
   EXPECT_TRUE(succeeded(result));
   for (const DeviceInfo& device : list_devices()) {
     EXPECT_TRUE(mentions(result.out, std::to_string(device.index) + ": " + device.name));
+    EXPECT_TRUE(mentions(result.out, "local memory " + std::to_string(device.local_memory_bytes >> 10) + " KiB"));
   }
 }
 

@@ -73,6 +73,16 @@ struct DeviceInfo {
   std::string driver_version;  // CL_DRIVER_VERSION
   std::string type;            // "CPU", "GPU", "accelerator" or "other"
   int compute_units = 0;
+  // The limits the pipeline's sizes are chosen within (OpenCL 1.2 promises only 32 KiB of local
+  // memory, 64 KiB of constant memory, 1 KiB of kernel arguments, work-groups of one work-item, and
+  // buffers of a quarter of the memory). What a device cannot run is an InvalidArgument naming the
+  // limit, never a driver failure.
+  std::size_t local_memory_bytes = 0;    // CL_DEVICE_LOCAL_MEM_SIZE
+  std::size_t work_group_items = 0;      // CL_DEVICE_MAX_WORK_GROUP_SIZE
+  std::size_t buffer_bytes = 0;          // CL_DEVICE_MAX_MEM_ALLOC_SIZE: one buffer at most
+  std::size_t constant_buffer_bytes = 0; // CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE: a program's uniforms at most
+  std::size_t parameter_bytes = 0;       // CL_DEVICE_MAX_PARAMETER_SIZE: all of a kernel's arguments
+  unsigned address_bits = 0;             // CL_DEVICE_ADDRESS_BITS
 };
 
 // Every OpenCL device of every platform, in a stable order. Throws DeviceError when the machine has

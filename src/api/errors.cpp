@@ -21,7 +21,7 @@ std::string cl_error_name(cl_int code) {
 }
 
 void check_allocation(const ContextState& state, std::size_t bytes, const char* what) {
-  const std::size_t limit = state.device.limits.buffer_bytes;
+  const std::size_t limit = state.device.info.buffer_bytes;
   if (bytes > limit) {
     throw InvalidArgument(std::string(what) + " need " + std::to_string(bytes >> 20) + " MiB in one buffer; " +
                           state.device.info.name + " allocates at most " + std::to_string(limit >> 20) + " MiB");

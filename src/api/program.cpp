@@ -91,7 +91,7 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
   impl->state = state;
   impl->file_name = file_name;
   impl->parsed = program::parse_program(source, file_name);
-  const cl_host::DeviceLimits& limits = state->device.limits;
+  const DeviceInfo& limits = state->device.info;
   if (impl->parsed.interface.uniform_bytes > limits.constant_buffer_bytes) {
     throw InvalidArgument("program " + file_name + "'s uniforms take " + std::to_string(impl->parsed.interface.uniform_bytes) +
                           " bytes; device " + state->device.info.name + " has " +
@@ -109,14 +109,18 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
       throw BuildError("program " + file_name + " failed to compile:\n" + compile_errors(error.log(), file_name),
                        error.log());
     }
-    const std::optional<std::string> excess =
+    const std::optional<cl_host::KernelExcess> excess =
         translate_cl_errors([&] { return cl_host::kernel_beyond_limits(impl->program, state->device); });
     if (!excess) return impl;
+    if (!excess->tile_bound) {
+      throw InvalidArgument("program " + file_name + " cannot run: its " + excess->description +
+                            ": use fewer textures, buffers, outputs or attributes");
+    }
     if (!state->tile_size_chosen || impl->tile_size == kTileSizes.front()) {
       throw InvalidArgument("program " + file_name + " cannot run with " + std::to_string(impl->tile_size) + "x" +
-                            std::to_string(impl->tile_size) + " tiles: its " + *excess +
+                            std::to_string(impl->tile_size) + " tiles: its " + excess->description +
                             (impl->tile_size > kTileSizes.front() ? ": use a smaller tile size" : "") +
-                            ", or fewer outputs, varyings or resources");
+                            ", or fewer outputs or varyings");
     }
   }
 }

@@ -61,44 +61,47 @@ std::vector<Device> enumerate_devices() {
       info.driver_version = device.getInfo<CL_DRIVER_VERSION>();
       info.type = type_name(device.getInfo<CL_DEVICE_TYPE>());
       info.compute_units = static_cast<int>(device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
-      DeviceLimits limits;
-      limits.cpu = (device.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) != 0;
-      limits.local_memory_bytes = device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
-      limits.work_group_items = device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
-      limits.buffer_bytes = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-      limits.constant_buffer_bytes = device.getInfo<CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE>();
-      limits.parameter_bytes = device.getInfo<CL_DEVICE_MAX_PARAMETER_SIZE>();
-      limits.address_bits = device.getInfo<CL_DEVICE_ADDRESS_BITS>();
-      result.push_back({device, info, limits});
+      info.local_memory_bytes = device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+      info.work_group_items = device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+      info.buffer_bytes = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+      info.constant_buffer_bytes = device.getInfo<CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE>();
+      info.parameter_bytes = device.getInfo<CL_DEVICE_MAX_PARAMETER_SIZE>();
+      info.address_bits = device.getInfo<CL_DEVICE_ADDRESS_BITS>();
+      result.push_back({device, info});
     }
   }
   if (result.empty()) throw DeviceError("OpenCL platforms exist but none has a device");
   return result;
 }
 
-std::optional<std::string> kernel_beyond_limits(const cl::Program& program, const Device& device) {
+std::optional<KernelExcess> kernel_beyond_limits(const cl::Program& program, const Device& device) {
   std::vector<cl::Kernel> kernels;
   cl::Program(program).createKernels(&kernels);  // createKernels is not const, though it changes nothing
-  const DeviceLimits& limits = device.limits;
+  const DeviceInfo& limits = device.info;
   const std::string on_device = "; device " + device.info.name + " has ";
   for (const cl::Kernel& kernel : kernels) {
-    const std::string name = "kernel " + kernel.getInfo<CL_KERNEL_FUNCTION_NAME>();
+    const std::string name = kernel.getInfo<CL_KERNEL_FUNCTION_NAME>();
+    const bool raster = name == "raster_tiles";
     const std::size_t local = kernel.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(device.device);
     if (local > limits.local_memory_bytes) {
-      return name + " needs " + std::to_string(local) + " bytes of local memory" + on_device +
-             std::to_string(limits.local_memory_bytes);
+      return KernelExcess{"kernel " + name + " needs " + std::to_string(local) + " bytes of local memory" + on_device +
+                              std::to_string(limits.local_memory_bytes),
+                          raster};
     }
     const std::size_t compiled = kernel.getWorkGroupInfo<CL_KERNEL_COMPILE_WORK_GROUP_SIZE>(device.device)[0];
     const std::size_t items = compiled != 0 ? compiled : std::size_t{CLR_ITEM_GROUP_SIZE};
     const std::size_t runnable = kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device);
     if (items > runnable) {
-      return name + " needs work-groups of " + std::to_string(items) + " work-items" + on_device + "room for " +
-             std::to_string(runnable);
+      return KernelExcess{"kernel " + name + " needs work-groups of " + std::to_string(items) + " work-items" +
+                              on_device + "room for " + std::to_string(runnable),
+                          raster};
     }
-    const std::size_t argument_bytes = std::size_t{16} * kernel.getInfo<CL_KERNEL_NUM_ARGS>();
-    if (argument_bytes > limits.parameter_bytes) {
-      return name + " takes " + std::to_string(kernel.getInfo<CL_KERNEL_NUM_ARGS>()) + " arguments (up to " +
-             std::to_string(argument_bytes) + " bytes)" + on_device + std::to_string(limits.parameter_bytes);
+    const cl_uint arguments = kernel.getInfo<CL_KERNEL_NUM_ARGS>();
+    if (std::size_t{16} * arguments > limits.parameter_bytes) {
+      return KernelExcess{"kernel " + name + " takes " + std::to_string(arguments) + " arguments (up to " +
+                              std::to_string(16 * arguments) + " bytes)" + on_device +
+                              std::to_string(limits.parameter_bytes) + " bytes for them",
+                          false};
     }
   }
   return std::nullopt;

@@ -19,7 +19,9 @@ int devices() {
   for (const DeviceInfo& device : list_devices()) {
     std::cout << device.index << ": " << device.name << " (" << device.type << ", " << device.compute_units
               << " compute units)\n   platform " << device.platform << ", " << device.version << ", driver "
-              << device.driver_version << '\n';
+              << device.driver_version << "\n   local memory " << (device.local_memory_bytes >> 10)
+              << " KiB, work-groups of " << device.work_group_items << ", buffers of " << (device.buffer_bytes >> 20)
+              << " MiB at most\n";
   }
   return 0;
 }
