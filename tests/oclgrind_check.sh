@@ -14,7 +14,9 @@ if ! "$scene" "$@" "$work/device" >"$work/device.log" 2>&1; then
 fi
 cat "$work/device.log"
 # (Not --uninitialized: Oclgrind 21.10's uninitialized-value plugin crashes on atomic_max.)
-oclgrind --data-races --check-api "$scene" "$@" "$work/oclgrind" >"$work/oclgrind.log" 2>&1
+# Oclgrind is its own platform, with one device: a CLRASTER_DEVICE meant for the default run must
+# not pick another.
+env -u CLRASTER_DEVICE oclgrind --data-races --check-api "$scene" "$@" "$work/oclgrind" >"$work/oclgrind.log" 2>&1
 status=$?
 cat "$work/oclgrind.log"
 if [ $status -ne 0 ]; then

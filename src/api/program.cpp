@@ -91,11 +91,12 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
   impl->state = state;
   impl->file_name = file_name;
   impl->parsed = program::parse_program(source, file_name);
-  const DeviceInfo& limits = state->device.info;
-  if (impl->parsed.interface.uniform_bytes > limits.constant_buffer_bytes) {
-    throw InvalidArgument("program " + file_name + "'s uniforms take " + std::to_string(impl->parsed.interface.uniform_bytes) +
-                          " bytes; device " + state->device.info.name + " has " +
-                          std::to_string(limits.constant_buffer_bytes) + " of constant memory for them");
+  const DeviceInfo& device = state->device.info;
+  const std::size_t uniform_bytes = impl->parsed.interface.uniform_bytes;
+  if (uniform_bytes > device.constant_buffer_bytes) {
+    throw InvalidArgument("program " + file_name + "'s uniforms take " + std::to_string(uniform_bytes) +
+                          " bytes; device " + device.name + " has " + std::to_string(device.constant_buffer_bytes) +
+                          " of constant memory for them");
   }
   const std::string text = program::generate_stage_program(impl->parsed, source, file_name);
   // The context's tile size, or, where the context chose it and the program's stages need more than

@@ -94,6 +94,13 @@ static int clr_floor_to_int(float u) {
 
 /* ---- Filtering one level -------------------------------------------------------------------------------- */
 
+/* The linear blend a + (b - a) * w, written out rather than mix(): OpenCL leaves mix()'s precision
+ * to the implementation, and Intel's CPU runtime rounds its scalar and vector mix differently, so
+ * that a span program's samples (texture_span.cl) differed from its per-fragment twin's in the last
+ * bit. Plain operations round the same everywhere (FP_CONTRACT is off, types.h). For scalars, vectors
+ * and span vectors alike. */
+#define CLR_LERP(a, b, w) ((a) + ((b) - (a)) * (w))
+
 static float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) {
   __constant const TextureDesc* desc = t.desc;
   const int2 size = clr_texture_size(t, level);
@@ -119,7 +126,7 @@ static float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) 
   const float4 t01 = clr_load_texel_float(desc->format, t.data, clr_texel_index(t, level, size, i0, j1));
   const float4 t11 = clr_load_texel_float(desc->format, t.data, clr_texel_index(t, level, size, i1, j1));
   /* OpenGL's weighted sum, as lerps: equal texels give exactly their value. */
-  return mix(mix(t00, t10, alpha), mix(t01, t11, alpha), beta);
+  return CLR_LERP(CLR_LERP(t00, t10, alpha), CLR_LERP(t01, t11, alpha), beta);
 }
 
 /* ---- Level of detail and mipmapping (sections 8.14.1, 8.14.3) --------------------------------------------- */
@@ -148,7 +155,7 @@ static float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
       /* A whole lambda takes level d1 alone (and saves filtering the coarser one). */
       if (weight == 0.0f) return finer;
       const float4 coarser = clr_filter_level(t, uv, (int)d1 + 1, desc->min_filter);
-      return mix(finer, coarser, weight);
+      return CLR_LERP(finer, coarser, weight);
     }
     default: return clr_filter_level(t, uv, 0, desc->min_filter); /* CLR_MIP_NONE */
   }
@@ -179,7 +186,8 @@ static __attribute__((overloadable)) float4 clr_sample_grad(clr_texture t, float
   const float2 size = (float2)((float)t.desc->width, (float)t.desc->height);
   const float2 dx = duv_dx * size;
   const float2 dy = duv_dy * size;
-  const float rho_squared = fmax(dot(dx, dx), dot(dy, dy));
+  /* Written out rather than dot(), whose rounding is the implementation's, as the span sampler does. */
+  const float rho_squared = fmax(dx.x * dx.x + dx.y * dx.y, dy.x * dy.x + dy.y * dy.y);
   return clr_sample_lambda(t, uv, 0.5f * clr_fast_log2(rho_squared));
 }
 

@@ -75,12 +75,12 @@ static inline void clr_span_load_texels(clr_texture t, clr_span_uint index, clr_
   }
 }
 
-/* *a = mix(*a, b, w) per channel, as texture.cl's float4 mix computes it. */
+/* *a = CLR_LERP(*a, b, w) per channel, as texture.cl blends float4s. */
 static inline void clr_span_mix_into(clr_span_float4* a, clr_span_float4 b, clr_span_float w) {
-  a->x = mix(a->x, b.x, w);
-  a->y = mix(a->y, b.y, w);
-  a->z = mix(a->z, b.z, w);
-  a->w = mix(a->w, b.w, w);
+  a->x = CLR_LERP(a->x, b.x, w);
+  a->y = CLR_LERP(a->y, b.y, w);
+  a->z = CLR_LERP(a->z, b.z, w);
+  a->w = CLR_LERP(a->w, b.w, w);
 }
 
 /* *a = b where `take_b`. */
@@ -123,7 +123,7 @@ static void clr_span_filter_level(clr_texture t, clr_span_float2 uv, clr_span_in
   clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i0, j1), &t01);
   clr_span_load_texels(t, CLR_SPAN_TEXEL_INDEX(i1, j1), &t11);
 #undef CLR_SPAN_TEXEL_INDEX
-  /* mix(mix(t00, t10, alpha), mix(t01, t11, alpha), beta) */
+  /* CLR_LERP(CLR_LERP(t00, t10, alpha), CLR_LERP(t01, t11, alpha), beta) */
   clr_span_mix_into(&t00, t10, alpha);
   clr_span_mix_into(&t01, t11, alpha);
   clr_span_mix_into(&t00, t01, beta);

@@ -665,7 +665,18 @@ CLR_INLINE void process_quad_span(const __local SetupTriangle* t, int2 origin, u
 }
 #endif
 
-__kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1)))
+/* Where a tile's work-group has fewer work-items than a vector has lanes (one walking the tile in
+ * spans, CPU shapes), the kernel says that its work is as wide as a span already (OpenCL's
+ * vec_type_hint): a compiler that vectorizes across work-items (Intel's CPU runtime) otherwise built
+ * a version for eight work-items at once, that a group of one never runs, in most of a program's
+ * build time (88 -> 13 s for the built-in normal shading). */
+#if CLR_RASTER_GROUP < CLR_CPU_SPAN_PIXELS
+#define CLR_RASTER_WIDTH_HINT __attribute__((vec_type_hint(CLR_SPAN_CAT(float, CLR_CPU_SPAN_PIXELS))))
+#else
+#define CLR_RASTER_WIDTH_HINT
+#endif
+
+__kernel __attribute__((reqd_work_group_size(CLR_RASTER_GROUP, 1, 1))) CLR_RASTER_WIDTH_HINT
 void raster_tiles(__global const SetupTriangle* records, __global const SetupTriangle* overflow,
                   __global const uint* sorted_triangles, __global const uint* tile_ranges, uint tiles_x,
                   uint tile_count, uint run_count, uint run_stride,

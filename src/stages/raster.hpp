@@ -31,10 +31,6 @@ class RasterStage {
  public:
   explicit RasterStage(const cl::Program& program);
   void run(cl_host::Queue& queue, const RasterParams& params);
-  // Local memory one tile's work-group uses (its batch of triangles, the tile's attachments).
-  std::size_t local_memory_bytes(const cl::Device& device) const {
-    return kernel_.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(device);
-  }
 
  private:
   cl::Kernel kernel_;
