@@ -16,7 +16,9 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 # OCL_ICD_VENDORS: the vendors directory listing PoCL and Intel's runtime, for everything below.
-eval "$("$root/scripts/setup.sh" --env)"
+# An assignment first, not eval "$(...)" alone, so that set -e stops here when the set-up fails.
+environment=$("$root/scripts/setup.sh" --env)
+eval "$environment"
 jobs=$(nproc)
 
 # The options every test needs, set again in case a build directory was configured without them.
@@ -49,7 +51,7 @@ done
 # Two implementations in every run: a missing one is an error, never a silent skip.
 if [ -z "$pocl" ] || [ -z "$intel" ]; then
   echo "test: error: the tests need both PoCL and Intel's CPU runtime (\"Intel(R) OpenCL\"), but" \
-       "OCL_ICD_VENDORS=$OCL_ICD_VENDORS lists only the devices above: see scripts/setup.sh" >&2
+       "OCL_ICD_VENDORS=${OCL_ICD_VENDORS-} lists only the devices above: see scripts/setup.sh" >&2
   exit 1
 fi
 
