@@ -1,18 +1,104 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds clraster and runs the whole test suite:
-#   1. every test of the release build (unit, OpenGL conformance, models, bad input, Oclgrind);
-#   2. the host code rebuilt with AddressSanitizer and UndefinedBehaviorSanitizer, running the unit
-#      and bad-input tests.
+# Installs what is missing, builds clraster and runs the test suite on every OpenCL device present
+# (`clraster devices`; scripts/setup.sh installs Intel's CPU runtime beside PoCL, so there are at
+# least two independent implementations):
+#   1. the release build's whole suite (unit, OpenGL conformance, models, bad input, scale, examples,
+#      install) on every device, each with the work-group shape the device asks for;
+#   2. on every device again, the tests labelled `device` (tests/CMakeLists.txt: conformance with the
+#      fragment counts, state conformance, program conformance and the programs' tests) with the GPU
+#      shapes (CLRASTER_WORK_GROUP_SHAPE=wide: work-groups of many work-items, local-memory tiles);
+#   3. every kernel under Oclgrind, which is a device of its own and checks races and bounds;
+#   4. the host code rebuilt with AddressSanitizer and UndefinedBehaviorSanitizer, running the unit
+#      and bad-input tests on PoCL's device.
+# Every run happens even when one before it failed; the summary names each run's device and suite,
+# and the script exits non-zero if any failed, or if PoCL or Intel's runtime is not among the devices.
 # Failing image tests leave reference.png, result.png and diff.png under build/test-output/.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-"$root/scripts/setup.sh"
+# OCL_ICD_VENDORS: the vendors directory listing PoCL and Intel's runtime, for everything below.
+# An assignment first, not eval "$(...)" alone, so that set -e stops here when the set-up fails.
+environment=$("$root/scripts/setup.sh" --env)
+eval "$environment"
+jobs=$(nproc)
 
 # The options every test needs, set again in case a build directory was configured without them.
 suite=(-DCLRASTER_BUILD_TESTS=ON -DCLRASTER_BUILD_CLI=ON -DCLRASTER_BUILD_EXAMPLES=ON)
 "$root/scripts/build.sh" "$root/build" "${suite[@]}" -DCLRASTER_SANITIZE=OFF
-(cd "$root/build" && ctest --output-on-failure --no-tests=error -j "$(nproc)")
+
+# ---- The devices, as the tests will see them (CLRASTER_DEVICE is an index into this list) ----
+# `clraster devices` prints "N: NAME (TYPE, K compute units)", then "   platform PLATFORM, VERSION, ...".
+listing=$("$root/build/src/clraster" devices)
+echo "$listing"
+names=() platforms=() last=""
+while IFS= read -r line; do
+  if [[ $line =~ ^([0-9]+):\ (.*)\ \([^,]*,\ [0-9]+\ compute\ units\)$ ]]; then
+    names[${BASH_REMATCH[1]}]=${BASH_REMATCH[2]}
+    last=${BASH_REMATCH[1]}
+  elif [[ $line =~ ^\ +platform\ (.*),\ OpenCL\  ]]; then
+    platforms[$last]=${BASH_REMATCH[1]}
+  fi
+done <<<"$listing"
+
+pocl="" intel=""
+for i in "${!names[@]}"; do
+  case "${platforms[$i]:-}" in
+    "Portable Computing Language") [ -n "$pocl" ] || pocl=$i ;;
+    "Intel(R) OpenCL") intel=$i ;;
+    # Should an Oclgrind ICD be installed: Oclgrind runs its own tests, the kernels under its checks.
+    Oclgrind) unset "names[$i]" ;;
+  esac
+done
+# Two implementations in every run: a missing one is an error, never a silent skip.
+if [ -z "$pocl" ] || [ -z "$intel" ]; then
+  echo "test: error: the tests need both PoCL and Intel's CPU runtime (\"Intel(R) OpenCL\"), but" \
+       "OCL_ICD_VENDORS=${OCL_ICD_VENDORS-} lists only the devices above: see scripts/setup.sh" >&2
+  exit 1
+fi
+
+# ---- The runs ----
+results=() failed=0
+describe() { echo "device $1: ${names[$1]} (${platforms[$1]:-unknown platform})"; }
+# run TITLE DEVICE|- SHAPE BUILD_DIR CTEST_ARGS...: one ctest run, with CLRASTER_DEVICE set unless
+# DEVICE is -, and CLRASTER_WORK_GROUP_SHAPE set to SHAPE (device or wide).
+run() {
+  local title=$1 device=$2 shape=$3 dir=$4 status=0 where
+  shift 4
+  if [ "$device" = - ]; then where="its own device"; else where=$(describe "$device"); fi
+  echo
+  echo "==== test: $title on $where ===="
+  SECONDS=0
+  if [ "$device" = - ]; then
+    (cd "$dir" && env -u CLRASTER_DEVICE CLRASTER_WORK_GROUP_SHAPE="$shape" \
+       ctest --output-on-failure --no-tests=error -j "$jobs" "$@") || status=$?
+  else
+    (cd "$dir" && CLRASTER_DEVICE=$device CLRASTER_WORK_GROUP_SHAPE="$shape" \
+       ctest --output-on-failure --no-tests=error -j "$jobs" "$@") || status=$?
+  fi
+  local line
+  if [ $status -eq 0 ]; then line="passed"; else line="FAILED"; failed=1; fi
+  line="$line  $title on $where, ${SECONDS}s"
+  echo "==== test: $line ===="
+  results+=("$line")
+}
+
+for i in "${!names[@]}"; do
+  run "whole suite, the device's work-group shape (release build)" "$i" device "$root/build" -LE '^oclgrind$'
+done
+for i in "${!names[@]}"; do
+  run "device tests in the GPU shapes (release build)" "$i" wide "$root/build" -L '^device$'
+done
+# Oclgrind is an OpenCL implementation of its own (tests/oclgrind_check.sh runs the program under
+# it, in both shapes), so its tests run apart, with no CLRASTER_DEVICE naming a device of this list.
+run "kernels under Oclgrind (release build)" - device "$root/build" -L '^oclgrind$'
 
 "$root/scripts/build.sh" "$root/build-sanitize" "${suite[@]}" -DCLRASTER_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
-(cd "$root/build-sanitize" && ctest --output-on-failure --no-tests=error -j "$(nproc)")
+run "unit and bad-input tests (ASan+UBSan build)" "$pocl" device "$root/build-sanitize"
+
+echo
+echo "test: summary"
+printf '  %s\n' "${results[@]}"
+if [ $failed -ne 0 ]; then
+  echo "test: some tests FAILED (failing image tests leave their pictures under build/test-output/)"
+  exit 1
+fi
 echo "test: all tests passed"

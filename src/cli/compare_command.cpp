@@ -21,7 +21,7 @@ int devices() {
               << " compute units)\n   platform " << device.platform << ", " << device.version << ", driver "
               << device.driver_version << "\n   local memory " << (device.local_memory_bytes >> 10)
               << " KiB, work-groups of " << device.work_group_items << ", buffers of " << (device.buffer_bytes >> 20)
-              << " MiB at most\n";
+              << " MiB at most, " << device.address_bits << "-bit addresses\n";
   }
   return 0;
 }
