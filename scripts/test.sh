@@ -3,10 +3,9 @@
 # (`clraster devices`; scripts/setup.sh installs Intel's CPU runtime beside PoCL, so there are at
 # least two independent implementations):
 #   1. the release build's whole suite (unit, OpenGL conformance, models, bad input, scale, examples,
-#      install) on every device, each with the work-group shape the device asks for;
-#   2. on every device again, the tests labelled `device` (tests/CMakeLists.txt: conformance with the
-#      fragment counts, state conformance, program conformance and the programs' tests) with the GPU
-#      shapes (CLRASTER_WORK_GROUP_SHAPE=wide: work-groups of many work-items, local-memory tiles);
+#      install) on every device, in the work-group shapes the device asks for;
+#   2. the whole suite again on every device in the GPU shapes (CLRASTER_WORK_GROUP_SHAPE=wide:
+#      work-groups of many work-items, local-memory tiles);
 #   3. every kernel under Oclgrind, which is a device of its own and checks races and bounds;
 #   4. the host code rebuilt with AddressSanitizer and UndefinedBehaviorSanitizer, running the unit
 #      and bad-input tests on PoCL's device.
@@ -81,11 +80,10 @@ run() {
   results+=("$line")
 }
 
-for i in "${!names[@]}"; do
-  run "whole suite, the device's work-group shape (release build)" "$i" device "$root/build" -LE '^oclgrind$'
-done
-for i in "${!names[@]}"; do
-  run "device tests in the GPU shapes (release build)" "$i" wide "$root/build" -L '^device$'
+for shape in device wide; do
+  for i in "${!names[@]}"; do
+    run "whole suite, $shape work-group shape (release build)" "$i" "$shape" "$root/build" -LE '^oclgrind$'
+  done
 done
 # Oclgrind is an OpenCL implementation of its own (tests/oclgrind_check.sh runs the program under
 # it, in both shapes), so its tests run apart, with no CLRASTER_DEVICE naming a device of this list.
