@@ -16,9 +16,24 @@ std::vector<float> texcoords_or_zeros(const io::Model& model) {
   return model.texcoords.empty() ? std::vector<float>(2 * model.vertex_count(), 0.0f) : model.texcoords;
 }
 
-// The GLSL equivalent of programs/material.cl: keep the two in step (tests/test_cli_programs.cpp
-// compares what they draw).
-constexpr const char* kMaterialVertexShader = R"(#version 450 core
+// The uniforms of the GLSL material program that stay the same for every part.
+constexpr const char* kGlViewUniforms[] = {"mvp", "normal_matrix", "light_direction"};
+
+// A picture's texels as a texture holds them: the bottom row (t = 0) first.
+std::vector<std::byte> bottom_row_first(const Image& image) {
+  const std::size_t row_bytes = std::size_t(image.width) * 4;
+  std::vector<std::byte> texels(image.rgba.size());
+  for (int row = 0; row < image.height; ++row) {
+    std::memcpy(texels.data() + std::size_t(image.height - 1 - row) * row_bytes,
+                image.rgba.data() + std::size_t(row) * row_bytes, row_bytes);
+  }
+  return texels;
+}
+
+}  // namespace
+
+// Keep in step with programs/material.cl (tests/test_cli_programs.cpp compares what they draw).
+const char* const kGlMaterialVertexShader = R"(#version 450 core
 in vec3 position;
 in vec3 normal;
 in vec2 uv;
@@ -34,7 +49,7 @@ void main() {
 }
 )";
 
-constexpr const char* kMaterialFragmentShader = R"(#version 450 core
+const char* const kGlMaterialFragmentShader = R"(#version 450 core
 in vec3 eye_normal;
 in vec2 texcoord;
 uniform vec4 base_color;
@@ -51,22 +66,6 @@ void main() {
   color = vec4(base.rgb * (AMBIENT + (1.0 - AMBIENT) * diffuse), 1.0);
 }
 )";
-
-// The uniforms of the GLSL material program that stay the same for every part.
-constexpr const char* kGlViewUniforms[] = {"mvp", "normal_matrix", "light_direction"};
-
-// A picture's texels as a texture holds them: the bottom row (t = 0) first.
-std::vector<std::byte> bottom_row_first(const Image& image) {
-  const std::size_t row_bytes = std::size_t(image.width) * 4;
-  std::vector<std::byte> texels(image.rgba.size());
-  for (int row = 0; row < image.height; ++row) {
-    std::memcpy(texels.data() + std::size_t(image.height - 1 - row) * row_bytes,
-                image.rgba.data() + std::size_t(row) * row_bytes, row_bytes);
-  }
-  return texels;
-}
-
-}  // namespace
 
 // ---- clraster -----------------------------------------------------------------------------------
 
@@ -117,7 +116,7 @@ std::vector<DrawCall> ClrasterModelDraws::calls(const VertexBuffer& vertices, co
 GlMaterialDraws::GlMaterialDraws(const io::Model& model, const ProgramInputs& view, std::vector<std::string>& warnings)
     : model_(model),
       uvs_(texcoords_or_zeros(model)),
-      program_(kMaterialVertexShader, kMaterialFragmentShader, "material program (GLSL)"),
+      program_(kGlMaterialVertexShader, kGlMaterialFragmentShader, "material program (GLSL)"),
       textures_(
           model, oracle::GlTexture(1, 1, Format::RGBA8, kWhiteTexel, false),
           [](const io::MaterialTexture& image) {

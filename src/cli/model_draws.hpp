@@ -17,6 +17,11 @@
 
 namespace clraster::cli {
 
+// The GLSL equivalent of programs/material.cl (uniforms mvp, normal_matrix, light_direction,
+// base_color; sampler base_color_texture): what GlMaterialDraws draws with.
+extern const char* const kGlMaterialVertexShader;
+extern const char* const kGlMaterialFragmentShader;
+
 class ClrasterModelDraws {
  public:
   // Binds what `program`, which follows the contract (check_contract), declares: `view`'s uniforms,
