@@ -55,8 +55,8 @@ class GlMaterialDraws {
 
  private:
   const io::Model& model_;
-  std::vector<float> uvs_;  // the model's texture coordinates, or zeros
   oracle::GlProgram program_;
+  oracle::GlVertexInput vertex_input_;  // the model's vertices and indices, uploaded once for every part
   MaterialTextures<oracle::GlTexture> textures_;
 };
 
