@@ -43,10 +43,10 @@ io::Model material_model(const Scene& scene) {
   return model;
 }
 
-// A scene's material is built in and its texture embedded: nothing to warn about. A warning would
-// mean the scene is not drawn as it says.
-void require_no_warnings(const std::vector<std::string>& warnings, const Scene& scene) {
-  if (!warnings.empty()) throw Error("benchmark scene " + scene.name + ": " + warnings.front());
+// A scene's materials are built in and their textures embedded: nothing to warn about. A warning
+// would mean the scene is not drawn as it says.
+void require_no_warnings(const std::vector<std::string>& warnings, const std::string& scene) {
+  if (!warnings.empty()) throw Error("benchmark scene " + scene + ": " + warnings.front());
 }
 
 // A scene on clraster: its mesh in device buffers, drawn into textures of the formats GlRenderer
@@ -64,7 +64,7 @@ class ClrasterScene {
       std::vector<std::string> warnings;
       material_draws_.emplace(context, Program(context, cli::kMaterialProgram, "<material>"), material_model(scene),
                               cli::view_inputs(scene.camera, width, height), warnings);
-      require_no_warnings(warnings, scene);
+      require_no_warnings(warnings, scene.name);
       call_ = material_draws_->calls(vertices_, indices_, state).front();  // the model's one part
     } else {
       call_.vertices = &vertices_;
@@ -95,42 +95,18 @@ class ClrasterScene {
   DrawCall call_;
 };
 
-class GlScene {
- public:
-  GlScene(const Scene& scene, const DrawState& state, int width, int height)
-      : renderer_(width, height), state_(state) {
-    if (scene.material) {
-      model_ = material_model(scene);
-      std::vector<std::string> warnings;
-      material_draws_.emplace(*model_, cli::view_inputs(scene.camera, width, height), warnings);
-      require_no_warnings(warnings, scene);
-    } else {
-      mesh_.emplace(scene.mesh.positions, scene.mesh.normals, scene.mesh.indices);
-    }
-  }
-  GlScene(const GlScene&) = delete;  // the material's draws point into the model
-  GlScene& operator=(const GlScene&) = delete;
+// As an application would draw its first frame: without profiling.
+double time_first_frame(const Scene& scene, const DrawState& state, const RunOptions& options) {
+  ContextOptions unprofiled = options.context;
+  unprofiled.profile = false;
+  const Clock::time_point start = Clock::now();
+  Context context(unprofiled);
+  ClrasterScene drawn(context, scene, state, options.width, options.height);
+  drawn.frame();
+  return milliseconds_since(start);
+}
 
-  void frame() {
-    renderer_.clear({0, 0, 0, 1}, 1.0f);
-    if (material_draws_) {
-      material_draws_->draw(renderer_, state_);
-    } else {
-      renderer_.draw(*mesh_, 0, kAllElements, state_);
-    }
-    renderer_.finish();
-  }
-
-  Image picture() const { return renderer_.read_color(); }
-  std::string renderer() const { return renderer_.renderer(); }
-
- private:
-  oracle::GlRenderer renderer_;
-  DrawState state_;
-  std::optional<oracle::GlMesh> mesh_;  // a scene with a built-in shading
-  std::optional<io::Model> model_;      // or a textured one
-  std::optional<cli::GlMaterialDraws> material_draws_;
-};
+}  // namespace
 
 // glibc gives memory freed at the top of a heap back to the system once it exceeds the trim
 // threshold, and llvmpipe frees and allocates its per-frame memory every frame: depending on
@@ -144,18 +120,41 @@ void keep_freed_memory() {
 #endif
 }
 
-// As an application would draw its first frame: without profiling.
-double time_first_frame(const Scene& scene, const DrawState& state, const RunOptions& options) {
-  ContextOptions unprofiled = options.context;
-  unprofiled.profile = false;
-  const Clock::time_point start = Clock::now();
-  Context context(unprofiled);
-  ClrasterScene drawn(context, scene, state, options.width, options.height);
-  drawn.frame();
-  return milliseconds_since(start);
+GlScene::GlScene(const Scene& scene, const DrawState& state, int width, int height)
+    : renderer_(width, height), state_(state) {
+  if (scene.material) {
+    use_material_draws(material_model(scene), scene.camera, width, height, scene.name);
+  } else {
+    mesh_.emplace(scene.mesh.positions, scene.mesh.normals, scene.mesh.indices);
+  }
 }
 
-}  // namespace
+GlScene::GlScene(io::Model model, const io::Camera& camera, const DrawState& state, int width, int height,
+                 const std::string& name)
+    : renderer_(width, height), state_(state) {
+  use_material_draws(std::move(model), camera, width, height, name);
+}
+
+void GlScene::use_material_draws(io::Model model, const io::Camera& camera, int width, int height,
+                                 const std::string& name) {
+  model_ = std::move(model);
+  std::vector<std::string> warnings;
+  material_draws_.emplace(*model_, cli::view_inputs(camera, width, height), warnings);
+  require_no_warnings(warnings, name);
+}
+
+void GlScene::frame() {
+  renderer_.clear({0, 0, 0, 1}, 1.0f);
+  if (material_draws_) {
+    material_draws_->draw(renderer_, state_);
+  } else {
+    renderer_.draw(*mesh_, 0, kAllElements, state_);
+  }
+  renderer_.finish();
+}
+
+Image GlScene::picture() const { return renderer_.read_color(); }
+std::string GlScene::renderer() const { return renderer_.renderer(); }
 
 SceneRun run_scene(const Scene& scene, const RunOptions& options) {
   if (options.frames < 1) throw InvalidArgument("a benchmark needs at least one timed frame");

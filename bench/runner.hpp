@@ -13,12 +13,15 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bench/scenes.hpp"
+#include "cli/model_draws.hpp"
 #include "clraster/clraster.hpp"
 #include "io/image_compare.hpp"
+#include "oracle/gl_renderer.hpp"
 
 namespace clraster::bench {
 
@@ -67,6 +70,37 @@ struct SceneRun {
   Image clraster_picture;  // the last timed frames
   Image gl_picture;
 };
+
+// A scene on llvmpipe as the benchmark draws it, through the OpenGL oracle: its mesh with its
+// built-in shading in one draw, or a model with the material program part by part, as the command
+// line draws models (cli::GlMaterialDraws). bench/gl_minimal.cpp times it against OpenGL used
+// directly.
+class GlScene {
+ public:
+  GlScene(const Scene& scene, const DrawState& state, int width, int height);
+  // `model` drawn with the material program seen from `camera`; `name` is the scene's, for errors.
+  GlScene(io::Model model, const io::Camera& camera, const DrawState& state, int width, int height,
+          const std::string& name);
+  GlScene(const GlScene&) = delete;  // the material's draws point into the model
+  GlScene& operator=(const GlScene&) = delete;
+
+  // Clears to (0, 0, 0, 1) and depth 1, draws, and waits for the rendering (glFinish).
+  void frame();
+  Image picture() const;
+  std::string renderer() const;
+
+ private:
+  void use_material_draws(io::Model model, const io::Camera& camera, int width, int height, const std::string& name);
+
+  oracle::GlRenderer renderer_;
+  DrawState state_;
+  std::optional<oracle::GlMesh> mesh_;  // a scene with a built-in shading
+  std::optional<io::Model> model_;      // or a model with materials
+  std::optional<cli::GlMaterialDraws> material_draws_;
+};
+
+// Has the process keep the memory it frees (runner.cpp says why); run_scene calls it.
+void keep_freed_memory();
 
 // Runs one scene: a profiling Context and a GlRenderer, kWarmupFrames then options.frames timed
 // frames of each in turn, the pictures compared, then the first frame of a new Context. Throws

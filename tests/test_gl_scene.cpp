@@ -29,6 +29,7 @@ using clraster::oracle::GlDrawCall;
 using clraster::oracle::GlFramebuffer;
 using clraster::oracle::GlProgram;
 using clraster::oracle::GlTexture;
+using clraster::oracle::GlVertexInput;
 using Vec4 = std::array<float, 4>;
 
 template <typename T>
@@ -467,20 +468,8 @@ TEST(GlScene, DrawsRefuseUnsetUniformsAndMismatchedAttributes) {
   EXPECT_THROW(target.draw(call), InvalidArgument);  // vertex 3 does not exist
 }
 
-// Interleaved per-vertex data (a float2 position and an int, 12-byte stride), a per-instance uint,
-// 16-bit indices and instancing: instance k draws the unit quad into pixel column k with value
-// 10 * (k + 1) + the vertices' tag.
-TEST(GlScene, InterleavedInstancedIndexedAttributes) {
-  struct Vertex {
-    float x, y;
-    std::int32_t tag;
-  };
-  const std::vector<Vertex> vertices = {{0, 0, 5}, {1, 0, 5}, {1, 1, 5}, {0, 1, 5}};
-  const std::vector<std::uint32_t> values = {10, 20, 30, 40};
-  const std::vector<std::uint16_t> indices = {9, 9, 9, 0, 1, 2, 0, 2, 3};  // the draw starts at index 3
-  GlTexture color(4, 1, Format::R32UI);
-  GlFramebuffer target({&color});
-  GlProgram program(R"(#version 450 core
+// Instance k draws the unit quad into pixel column k of a 4x1 picture, with value value + tag.
+constexpr const char* kTaggedQuadVertex = R"(#version 450 core
 in vec2 corner;
 in int tag;
 in uint value;
@@ -489,13 +478,33 @@ void main() {
   gl_Position = vec4((corner.x + float(gl_InstanceID)) / 2.0 - 1.0, corner.y * 2.0 - 1.0, 0.0, 1.0);
   result = value + uint(tag);
 }
-)",
-                    "#version 450 core\nflat in uint result;\nout uint c;\nvoid main() { c = result; }\n");
+)";
+constexpr const char* kTaggedQuadFragment = "#version 450 core\nflat in uint result;\nout uint c;\nvoid main() { c = result; }\n";
+
+struct TaggedVertex {
+  float x, y;
+  std::int32_t tag;
+};
+const std::vector<TaggedVertex> kTaggedQuad = {{0, 0, 5}, {1, 0, 5}, {1, 1, 5}, {0, 1, 5}};
+const std::vector<std::uint32_t> kInstanceValues = {10, 20, 30, 40};
+
+// Interleaved per-vertex data (a float2 position and an int, 12-byte stride) and a per-instance uint.
+std::vector<GlAttribute> tagged_quad_attributes() {
+  const auto data = bytes(kTaggedQuad);
+  return {{"corner", data, AttributeType::Float2, 0, sizeof(TaggedVertex)},
+          {"tag", data, AttributeType::Int, offsetof(TaggedVertex, tag), sizeof(TaggedVertex)},
+          {"value", bytes(kInstanceValues), AttributeType::UInt, 0, 0, /*per_instance=*/true}};
+}
+
+// Interleaved attributes, 16-bit indices and instancing: instance k draws the unit quad into pixel
+// column k with value 10 * (k + 1) + the vertices' tag.
+TEST(GlScene, InterleavedInstancedIndexedAttributes) {
+  const std::vector<std::uint16_t> indices = {9, 9, 9, 0, 1, 2, 0, 2, 3};  // the draw starts at index 3
+  GlTexture color(4, 1, Format::R32UI);
+  GlFramebuffer target({&color});
+  GlProgram program(kTaggedQuadVertex, kTaggedQuadFragment);
   GlDrawCall call{&program};
-  const auto data = bytes(vertices);
-  call.attributes = {{"corner", data, AttributeType::Float2, 0, sizeof(Vertex)},
-                     {"tag", data, AttributeType::Int, offsetof(Vertex, tag), sizeof(Vertex)},
-                     {"value", bytes(values), AttributeType::UInt, 0, 0, /*per_instance=*/true}};
+  call.attributes = tagged_quad_attributes();
   call.indices = indices;
   call.first = 3;
   call.instance_count = 3;
@@ -505,6 +514,41 @@ void main() {
   EXPECT_EQ(as<std::uint32_t>(color.read()), (std::vector<std::uint32_t>{15, 25, 35, 0}));
   call.instance_count = 5;  // more instances than per-instance values
   EXPECT_THROW(target.draw(call), InvalidArgument);
+}
+
+// The same quads from a vertex input uploaded once, a triangle per draw; its indices are checked
+// at once, and it draws with its own program only.
+TEST(GlScene, AVertexInputUploadedOnceDrawsRangesOfIt) {
+  const std::vector<std::uint16_t> indices = {0, 1, 2, 0, 2, 3};
+  GlTexture color(4, 1, Format::R32UI);
+  GlFramebuffer target({&color});
+  GlProgram program(kTaggedQuadVertex, kTaggedQuadFragment);
+  const GlVertexInput input(program, tagged_quad_attributes(), indices);
+  GlDrawCall call{&program};
+  call.vertex_input = &input;
+  call.count = 3;
+  call.instance_count = 3;
+  call.state.depth_test = false;
+  target.clear({0, 0, 0, 0});
+  target.draw(call);
+  call.first = 3;
+  target.draw(call);
+  EXPECT_EQ(as<std::uint32_t>(color.read()), (std::vector<std::uint32_t>{15, 25, 35, 0}));
+
+  call.first = 4;  // past the indices
+  EXPECT_THROW(target.draw(call), InvalidArgument);
+  call.first = 0;
+  call.instance_count = 5;  // more instances than per-instance values
+  EXPECT_THROW(target.draw(call), InvalidArgument);
+  call.instance_count = 1;
+  call.indices = indices;  // data of its own besides the input
+  EXPECT_THROW(target.draw(call), InvalidArgument);
+  call.indices = {};
+  const GlProgram other(kTaggedQuadVertex, kTaggedQuadFragment);
+  call.program = &other;
+  EXPECT_THROW(target.draw(call), InvalidArgument);
+  const std::vector<std::uint16_t> past_the_vertices = {0, 1, 4};
+  EXPECT_THROW(GlVertexInput(program, tagged_quad_attributes(), past_the_vertices), InvalidArgument);
 }
 
 // KHR_blend_equation_advanced with opaque colours: multiply gives src * dst, screen src + dst -

@@ -16,9 +16,35 @@ std::vector<float> texcoords_or_zeros(const io::Model& model) {
   return model.texcoords.empty() ? std::vector<float>(2 * model.vertex_count(), 0.0f) : model.texcoords;
 }
 
-// The GLSL equivalent of programs/material.cl: keep the two in step (tests/test_cli_programs.cpp
-// compares what they draw).
-constexpr const char* kMaterialVertexShader = R"(#version 450 core
+// The uniforms of the GLSL material program that stay the same for every part.
+constexpr const char* kGlViewUniforms[] = {"mvp", "normal_matrix", "light_direction"};
+
+// The model's positions, normals, texture coordinates (or zeros) and indices, uploaded once for the
+// GLSL material program.
+oracle::GlVertexInput gl_vertex_input(const oracle::GlProgram& program, const io::Model& model) {
+  const std::vector<float> uvs = texcoords_or_zeros(model);
+  const oracle::GlAttribute attributes[] = {
+      {kPositionAttribute, std::as_bytes(std::span(model.positions)), AttributeType::Float3},
+      {kNormalAttribute, std::as_bytes(std::span(model.normals)), AttributeType::Float3},
+      {kUvAttribute, std::as_bytes(std::span(uvs)), AttributeType::Float2}};
+  return oracle::GlVertexInput(program, attributes, std::span<const std::uint32_t>(model.indices));
+}
+
+// A picture's texels as a texture holds them: the bottom row (t = 0) first.
+std::vector<std::byte> bottom_row_first(const Image& image) {
+  const std::size_t row_bytes = std::size_t(image.width) * 4;
+  std::vector<std::byte> texels(image.rgba.size());
+  for (int row = 0; row < image.height; ++row) {
+    std::memcpy(texels.data() + std::size_t(image.height - 1 - row) * row_bytes,
+                image.rgba.data() + std::size_t(row) * row_bytes, row_bytes);
+  }
+  return texels;
+}
+
+}  // namespace
+
+// Keep in step with programs/material.cl (tests/test_cli_programs.cpp compares what they draw).
+const char* const kGlMaterialVertexShader = R"(#version 450 core
 in vec3 position;
 in vec3 normal;
 in vec2 uv;
@@ -34,7 +60,7 @@ void main() {
 }
 )";
 
-constexpr const char* kMaterialFragmentShader = R"(#version 450 core
+const char* const kGlMaterialFragmentShader = R"(#version 450 core
 in vec3 eye_normal;
 in vec2 texcoord;
 uniform vec4 base_color;
@@ -51,22 +77,6 @@ void main() {
   color = vec4(base.rgb * (AMBIENT + (1.0 - AMBIENT) * diffuse), 1.0);
 }
 )";
-
-// The uniforms of the GLSL material program that stay the same for every part.
-constexpr const char* kGlViewUniforms[] = {"mvp", "normal_matrix", "light_direction"};
-
-// A picture's texels as a texture holds them: the bottom row (t = 0) first.
-std::vector<std::byte> bottom_row_first(const Image& image) {
-  const std::size_t row_bytes = std::size_t(image.width) * 4;
-  std::vector<std::byte> texels(image.rgba.size());
-  for (int row = 0; row < image.height; ++row) {
-    std::memcpy(texels.data() + std::size_t(image.height - 1 - row) * row_bytes,
-                image.rgba.data() + std::size_t(row) * row_bytes, row_bytes);
-  }
-  return texels;
-}
-
-}  // namespace
 
 // ---- clraster -----------------------------------------------------------------------------------
 
@@ -116,8 +126,8 @@ std::vector<DrawCall> ClrasterModelDraws::calls(const VertexBuffer& vertices, co
 
 GlMaterialDraws::GlMaterialDraws(const io::Model& model, const ProgramInputs& view, std::vector<std::string>& warnings)
     : model_(model),
-      uvs_(texcoords_or_zeros(model)),
-      program_(kMaterialVertexShader, kMaterialFragmentShader, "material program (GLSL)"),
+      program_(kGlMaterialVertexShader, kGlMaterialFragmentShader, "material program (GLSL)"),
+      vertex_input_(gl_vertex_input(program_, model)),
       textures_(
           model, oracle::GlTexture(1, 1, Format::RGBA8, kWhiteTexel, false),
           [](const io::MaterialTexture& image) {
@@ -135,10 +145,7 @@ void GlMaterialDraws::draw(oracle::GlRenderer& target, const DrawState& state) {
     program_.set_texture(kBaseColorTexture, textures_[part.material], Sampler{});
     oracle::GlDrawCall call;
     call.program = &program_;
-    call.attributes = {{kPositionAttribute, std::as_bytes(std::span(model_.positions)), AttributeType::Float3},
-                       {kNormalAttribute, std::as_bytes(std::span(model_.normals)), AttributeType::Float3},
-                       {kUvAttribute, std::as_bytes(std::span(uvs_)), AttributeType::Float2}};
-    call.indices = std::span<const std::uint32_t>(model_.indices);
+    call.vertex_input = &vertex_input_;
     call.first = part.first_index;
     call.count = part.index_count;
     call.state = state;

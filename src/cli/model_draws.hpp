@@ -17,6 +17,11 @@
 
 namespace clraster::cli {
 
+// The GLSL equivalent of programs/material.cl (uniforms mvp, normal_matrix, light_direction,
+// base_color; sampler base_color_texture): what GlMaterialDraws draws with.
+extern const char* const kGlMaterialVertexShader;
+extern const char* const kGlMaterialFragmentShader;
+
 class ClrasterModelDraws {
  public:
   // Binds what `program`, which follows the contract (check_contract), declares: `view`'s uniforms,
@@ -50,8 +55,8 @@ class GlMaterialDraws {
 
  private:
   const io::Model& model_;
-  std::vector<float> uvs_;  // the model's texture coordinates, or zeros
   oracle::GlProgram program_;
+  oracle::GlVertexInput vertex_input_;  // the model's vertices and indices, uploaded once for every part
   MaterialTextures<oracle::GlTexture> textures_;
 };
 

@@ -160,6 +160,12 @@ gl::Sampler make_sampler(const Sampler& sampler, Kind kind) {
   return object;
 }
 
+bool same_sampler(const Sampler& a, const Sampler& b) {
+  return a.mag_filter == b.mag_filter && a.min_filter == b.min_filter && a.mip_filter == b.mip_filter &&
+         a.wrap_s == b.wrap_s && a.wrap_t == b.wrap_t && a.lod_bias == b.lod_bias && a.min_lod == b.min_lod &&
+         a.max_lod == b.max_lod;
+}
+
 // ---- GLSL value types -------------------------------------------------------------------------------
 
 // The uniform and attribute types the oracle sets; components counts all of a matrix's floats.
@@ -434,7 +440,8 @@ struct GlProgram::Impl {
   struct TextureBinding {
     GLint location;
     const GlTexture* texture;
-    gl::Sampler sampler;
+    Sampler settings;
+    gl::Sampler sampler;  // made with `settings`
   };
 
   std::string name;
@@ -611,25 +618,21 @@ GlProgram& GlProgram::set_texture(const std::string& name, const GlTexture& text
   if (*reads != format.kind) {
     throw InvalidArgument(what + " reads " + kind_name(*reads) + " textures, not " + format.name);
   }
-  Context::instance().make_current();
-  impl_->textures.insert_or_assign(name, Impl::TextureBinding{uniform.location, &texture,
-                                                              make_sampler(sampler, format.kind)});
+  // A model's parts set the same texture one after the other: that keeps the sampler object it has.
+  const auto bound = impl_->textures.find(name);
+  if (bound == impl_->textures.end() || bound->second.texture != &texture ||
+      !same_sampler(bound->second.settings, sampler)) {
+    Context::instance().make_current();
+    impl_->textures.insert_or_assign(name, Impl::TextureBinding{uniform.location, &texture, sampler,
+                                                                make_sampler(sampler, format.kind)});
+  }
   uniform.is_set = true;
   return *this;
 }
 
-// ---- GlFramebuffer --------------------------------------------------------------------------------
+// ---- GlVertexInput --------------------------------------------------------------------------------
 
 namespace {
-
-// A draw's vertex input in GL objects, made once the draw has been validated.
-struct VertexInput {
-  gl::VertexArray vertex_array;
-  std::vector<gl::Buffer> buffers;
-  GLenum index_type = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT; 0 without indices
-  std::size_t index_size = 0;
-  std::uint32_t elements = 0;
-};
 
 // Elements of `attribute` that lie in its data: i such that offset + i * stride + element size <= size.
 std::uint64_t available_elements(const GlAttribute& attribute) {
@@ -639,105 +642,151 @@ std::uint64_t available_elements(const GlAttribute& attribute) {
   return (attribute.data.size() - attribute.offset - bytes) / stride + 1;
 }
 
-// Checks `call` against its program and data, and builds its vertex array. Throws InvalidArgument for
-// any attribute missing, unused, duplicated or of the wrong kind, and for elements, indices or
-// instances past the end of their data.
-VertexInput make_vertex_input(const GlDrawCall& call, const std::map<std::string, ProgramAttribute>& declared,
-                              const std::string& program_name) {
-  const std::string program_text = "program '" + program_name + "'";
-  // Each given attribute names one the program uses, once, with data of the kind it declares.
-  std::map<std::string, const GlAttribute*> given;
+}  // namespace
+
+// Attributes and indices checked against a program, then uploaded into a vertex array and its
+// buffers: by GlVertexInput once, or by a draw with data of its own for that draw.
+struct GlVertexInput::Impl {
+  const GlProgram::Impl* program;  // the one whose attribute locations the vertex array feeds
+  std::string program_name;
   std::optional<std::uint64_t> vertices;   // elements of the shortest per-vertex attribute
-  for (const GlAttribute& attribute : call.attributes) {
-    const auto found = declared.find(attribute.name);
-    if (found == declared.end()) {
-      throw InvalidArgument(program_text + " has no active attribute '" + attribute.name +
-                            "' (misspelt, or unused and optimized away)");
-    }
-    if (!given.emplace(attribute.name, &attribute).second) {
-      throw InvalidArgument("attribute '" + attribute.name + "' is given twice");
-    }
-    const AttributeFormat format = attribute_format(attribute.type);
-    if (format.kind != found->second.type->kind) {
-      throw InvalidArgument("attribute '" + attribute.name + "' of " + program_text + " is " +
-                            found->second.type->glsl + ", not fed from " + kind_name(format.kind) + " data");
-    }
-    const std::uint64_t elements = available_elements(attribute);
-    if (attribute.per_instance) {
-      if (call.instance_count > elements) {
-        throw InvalidArgument(std::to_string(call.instance_count) + " instances, but per-instance attribute '" +
-                              attribute.name + "' holds " + std::to_string(elements));
+  std::optional<std::uint64_t> instances;  // elements of the shortest per-instance attribute
+  std::string shortest_per_instance;       // and its name, for errors
+  GLenum index_type = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT; 0 without indices
+  std::size_t index_size = 0;
+  std::uint64_t index_count = 0;
+  gl::VertexArray vertex_array;
+  std::vector<gl::Buffer> buffers;
+
+  // Checks `attributes` against the program: each given names an attribute it uses, once, with data
+  // of the kind it declares, and each it uses is given. Throws InvalidArgument otherwise.
+  Impl(const GlProgram::Impl& program_impl, std::span<const GlAttribute> attributes, const GlIndices& indices)
+      : program(&program_impl), program_name(program_impl.name) {
+    const std::string program_text = "program '" + program_name + "'";
+    std::map<std::string, const GlAttribute*> given;
+    for (const GlAttribute& attribute : attributes) {
+      const auto found = program->attributes.find(attribute.name);
+      if (found == program->attributes.end()) {
+        throw InvalidArgument(program_text + " has no active attribute '" + attribute.name +
+                              "' (misspelt, or unused and optimized away)");
       }
-    } else {
-      vertices = std::min(vertices.value_or(elements), elements);
+      if (!given.emplace(attribute.name, &attribute).second) {
+        throw InvalidArgument("attribute '" + attribute.name + "' is given twice");
+      }
+      const AttributeFormat format = attribute_format(attribute.type);
+      if (format.kind != found->second.type->kind) {
+        throw InvalidArgument("attribute '" + attribute.name + "' of " + program_text + " is " +
+                              found->second.type->glsl + ", not fed from " + kind_name(format.kind) + " data");
+      }
+      const std::uint64_t elements = available_elements(attribute);
+      if (!attribute.per_instance) {
+        vertices = std::min(vertices.value_or(elements), elements);
+      } else if (!instances || elements < *instances) {
+        instances = elements;
+        shortest_per_instance = attribute.name;
+      }
     }
-  }
-  for (const auto& [name, attribute] : declared) {
-    if (!given.contains(name)) throw InvalidArgument("attribute '" + name + "' of " + program_text + " has no data");
-  }
-  if (call.instance_count > std::uint32_t(std::numeric_limits<GLsizei>::max())) {
-    throw InvalidArgument(std::to_string(call.instance_count) + " instances exceed OpenGL's 32-bit signed counts");
+    for (const auto& [name, attribute] : program->attributes) {
+      if (!given.contains(name)) throw InvalidArgument("attribute '" + name + "' of " + program_text + " has no data");
+    }
+    std::visit(
+        [&](const auto& list) {
+          if constexpr (!std::is_same_v<std::decay_t<decltype(list)>, std::monostate>) {
+            index_size = sizeof(list[0]);
+            index_type = index_size == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+            index_count = list.size();
+          }
+        },
+        indices);
   }
 
-  // The element range. draw_range checks a non-indexed one against the attributes; an indexed one
-  // reads up to its highest index.
-  VertexInput input;
-  std::uint64_t vertex_end = 0;  // one past the highest vertex the indices name
-  std::span<const std::byte> index_bytes;
-  std::visit(
-      [&](const auto& indices) {
-        using Indices = std::decay_t<decltype(indices)>;
-        if constexpr (std::is_same_v<Indices, std::monostate>) {
-          if (!vertices && call.count == kAllElements) {
-            throw InvalidArgument("a draw with neither indices nor per-vertex attributes must give its count");
+  ~Impl() { Context::instance().make_current_for_cleanup(); }  // the members' glDelete* need the context
+
+  // Throws InvalidArgument when indices[first, first + count) name a vertex past the shortest
+  // per-vertex attribute.
+  void check_indices(const GlIndices& indices, std::size_t first, std::size_t count) const {
+    std::uint64_t vertex_end = 0;  // one past the highest vertex named
+    std::visit(
+        [&](const auto& list) {
+          if constexpr (!std::is_same_v<std::decay_t<decltype(list)>, std::monostate>) {
+            for (const auto index : list.subspan(first, count)) {
+              vertex_end = std::max(vertex_end, std::uint64_t{index} + 1);
+            }
           }
-          const std::uint64_t available = vertices.value_or(std::uint64_t{call.first} + call.count);
-          input.elements = gl::draw_range(call.first, call.count, available, "the per-vertex attributes");
-        } else {
-          input.elements = gl::draw_range(call.first, call.count, indices.size(), "the indices");
-          for (const auto index : indices.subspan(call.first, input.elements)) {
-            vertex_end = std::max(vertex_end, std::uint64_t{index} + 1);
-          }
-          index_bytes = std::as_bytes(indices);
-          input.index_size = sizeof(indices[0]);
-          input.index_type = input.index_size == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
-        }
-      },
-      call.indices);
-  if (vertices && vertex_end > *vertices) {
-    throw InvalidArgument("the draw's indices name vertex " + std::to_string(vertex_end - 1) +
-                          " but the shortest per-vertex attribute holds " + std::to_string(*vertices));
+        },
+        indices);
+    if (vertices && vertex_end > *vertices) {
+      throw InvalidArgument("the draw's indices name vertex " + std::to_string(vertex_end - 1) +
+                            " but the shortest per-vertex attribute holds " + std::to_string(*vertices));
+    }
   }
 
-  GLuint id = 0;
-  glCreateVertexArrays(1, &id);
-  input.vertex_array = gl::VertexArray(id);
-  for (std::size_t i = 0; i < call.attributes.size(); ++i) {
-    const GlAttribute& attribute = call.attributes[i];
-    const AttributeFormat format = attribute_format(attribute.type);
-    const auto binding = GLuint(i);
-    const auto location = GLuint(declared.at(attribute.name).location);
-    input.buffers.push_back(gl::upload_buffer(attribute.data));
-    glVertexArrayVertexBuffer(id, binding, input.buffers.back().get(), GLintptr(attribute.offset),
-                              GLsizei(attribute.stride != 0 ? attribute.stride : format.bytes()));
-    if (format.kind == Kind::Float) {
-      glVertexArrayAttribFormat(id, location, format.components, format.type, GL_FALSE, 0);
-    } else {
-      glVertexArrayAttribIFormat(id, location, format.components, format.type, 0);
+  // The number of elements `call` draws. Throws InvalidArgument for more instances than a
+  // per-instance attribute holds and for a range past the end of the indices (or, without them, of
+  // the per-vertex attributes).
+  std::uint32_t draw_elements(const GlDrawCall& call) const {
+    if (instances && call.instance_count > *instances) {
+      throw InvalidArgument(std::to_string(call.instance_count) + " instances, but per-instance attribute '" +
+                            shortest_per_instance + "' holds " + std::to_string(*instances));
     }
-    glVertexArrayAttribBinding(id, location, binding);
-    glVertexArrayBindingDivisor(id, binding, attribute.per_instance ? 1 : 0);
-    glEnableVertexArrayAttrib(id, location);
+    if (call.instance_count > std::uint32_t(std::numeric_limits<GLsizei>::max())) {
+      throw InvalidArgument(std::to_string(call.instance_count) + " instances exceed OpenGL's 32-bit signed counts");
+    }
+    if (index_type != 0) return gl::draw_range(call.first, call.count, index_count, "the indices");
+    if (!vertices && call.count == kAllElements) {
+      throw InvalidArgument("a draw with neither indices nor per-vertex attributes must give its count");
+    }
+    const std::uint64_t available = vertices.value_or(std::uint64_t{call.first} + call.count);
+    return gl::draw_range(call.first, call.count, available, "the per-vertex attributes");
   }
-  if (input.index_type != 0) {
-    input.buffers.push_back(gl::upload_buffer(index_bytes));
-    glVertexArrayElementBuffer(id, input.buffers.back().get());
+
+  // Copies `attributes` (those the constructor checked) and `indices` into GL buffers that the
+  // vertex array reads.
+  void upload(std::span<const GlAttribute> attributes, const GlIndices& indices) {
+    GLuint id = 0;
+    glCreateVertexArrays(1, &id);
+    vertex_array = gl::VertexArray(id);
+    for (std::size_t i = 0; i < attributes.size(); ++i) {
+      const GlAttribute& attribute = attributes[i];
+      const AttributeFormat format = attribute_format(attribute.type);
+      const auto binding = GLuint(i);
+      const auto location = GLuint(program->attributes.at(attribute.name).location);
+      buffers.push_back(gl::upload_buffer(attribute.data));
+      glVertexArrayVertexBuffer(id, binding, buffers.back().get(), GLintptr(attribute.offset),
+                                GLsizei(attribute.stride != 0 ? attribute.stride : format.bytes()));
+      if (format.kind == Kind::Float) {
+        glVertexArrayAttribFormat(id, location, format.components, format.type, GL_FALSE, 0);
+      } else {
+        glVertexArrayAttribIFormat(id, location, format.components, format.type, 0);
+      }
+      glVertexArrayAttribBinding(id, location, binding);
+      glVertexArrayBindingDivisor(id, binding, attribute.per_instance ? 1 : 0);
+      glEnableVertexArrayAttrib(id, location);
+    }
+    std::visit(
+        [&](const auto& list) {
+          if constexpr (!std::is_same_v<std::decay_t<decltype(list)>, std::monostate>) {
+            buffers.push_back(gl::upload_buffer(std::as_bytes(list)));
+            glVertexArrayElementBuffer(id, buffers.back().get());
+          }
+        },
+        indices);
+    gl::check("uploading vertex input");
   }
-  gl::check("uploading vertex input");
-  return input;
+};
+
+GlVertexInput::GlVertexInput(const GlProgram& program, std::span<const GlAttribute> attributes, GlIndices indices)
+    : impl_(std::make_unique<Impl>(*program.impl_, attributes, indices)) {
+  impl_->check_indices(indices, 0, impl_->index_count);
+  Context::instance().make_current();
+  impl_->upload(attributes, indices);
 }
 
-}  // namespace
+GlVertexInput::~GlVertexInput() = default;
+GlVertexInput::GlVertexInput(GlVertexInput&&) noexcept = default;
+GlVertexInput& GlVertexInput::operator=(GlVertexInput&&) noexcept = default;
+
+// ---- GlFramebuffer --------------------------------------------------------------------------------
 
 struct GlFramebuffer::Impl {
   std::vector<GlTexture*> colors;
@@ -920,8 +969,25 @@ void GlFramebuffer::draw(const GlDrawCall& call) {
     }
   }
   const GLenum mode = gl::topology(call.state.topology);
+  // The call's own attributes and indices are checked, and uploaded for this draw only.
+  std::optional<GlVertexInput::Impl> own_input;
+  const GlVertexInput::Impl* input = nullptr;
+  if (call.vertex_input) {
+    input = call.vertex_input->impl_.get();
+    if (input->program != &program) {
+      throw InvalidArgument("a vertex input made for program '" + input->program_name + "' drawn with program '" +
+                            program.name + "'");
+    }
+    if (!call.attributes.empty() || !std::holds_alternative<std::monostate>(call.indices)) {
+      throw InvalidArgument("a draw with a vertex input takes no attributes or indices of its own");
+    }
+  } else {
+    input = &own_input.emplace(program, call.attributes, call.indices);
+  }
+  const std::uint32_t elements = input->draw_elements(call);
+  if (own_input) own_input->check_indices(call.indices, call.first, elements);
   Context::instance().make_current();
-  const VertexInput input = make_vertex_input(call, program.attributes, program.name);
+  if (own_input) own_input->upload(call.attributes, call.indices);
 
   bind_for_drawing(call.state);
   if (call.advanced_blend) {
@@ -931,15 +997,15 @@ void GlFramebuffer::draw(const GlDrawCall& call) {
   }
   program.bind();
   gl::check("setting the draw state");
-  glBindVertexArray(input.vertex_array.get());
+  glBindVertexArray(input->vertex_array.get());
   const auto instances = GLsizei(call.instance_count);
-  if (input.index_type != 0) {
-    const auto offset = static_cast<std::uintptr_t>(std::size_t(call.first) * input.index_size);
-    glDrawElementsInstanced(mode, GLsizei(input.elements), input.index_type, reinterpret_cast<const void*>(offset),
+  if (input->index_type != 0) {
+    const auto offset = static_cast<std::uintptr_t>(std::size_t(call.first) * input->index_size);
+    glDrawElementsInstanced(mode, GLsizei(elements), input->index_type, reinterpret_cast<const void*>(offset),
                             instances);
     gl::check("glDrawElementsInstanced");
   } else {
-    glDrawArraysInstanced(mode, GLint(call.first), GLsizei(input.elements), instances);
+    glDrawArraysInstanced(mode, GLint(call.first), GLsizei(elements), instances);
     gl::check("glDrawArraysInstanced");
   }
 }

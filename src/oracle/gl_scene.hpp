@@ -17,6 +17,9 @@
 //   target.draw(call);
 //   std::vector<std::byte> texels = color.read();                 // rows from t = 0, 8 bytes a texel
 //
+// A draw uploads its attributes and indices anew; many draws from one mesh (a model's parts) share a
+// GlVertexInput that holds them uploaded once (GlDrawCall::vertex_input).
+//
 // Textures mirror clraster::Texture (same formats, sizes, levels and byte layouts) and framebuffers
 // mirror clraster::Framebuffer (same attachments and clears), so a test can run one sequence of
 // operations on both and compare the bytes. A texture rendered into in one pass is sampled in the next.
@@ -131,6 +134,7 @@ class GlProgram {
 
  private:
   friend class GlFramebuffer;
+  friend class GlVertexInput;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -151,6 +155,25 @@ struct GlAttribute {
 // No indices, or 16- or 32-bit indices (assigning a std::vector of either works).
 using GlIndices = std::variant<std::monostate, std::span<const std::uint16_t>, std::span<const std::uint32_t>>;
 
+// A draw's attributes and indices uploaded once, for many draws with `program` (a model's parts,
+// index ranges of one mesh): what GlDrawCall::vertex_input takes instead of data of the draw's own,
+// which each draw uploads anew. The attributes are checked against the program as a draw checks its
+// own (InvalidArgument), and every index once, here, against the shortest per-vertex attribute (as
+// GlMesh does), where a draw checks the ones it draws. The data is copied: the spans need not
+// outlive the constructor.
+class GlVertexInput {
+ public:
+  GlVertexInput(const GlProgram& program, std::span<const GlAttribute> attributes, GlIndices indices = {});
+  ~GlVertexInput();
+  GlVertexInput(GlVertexInput&&) noexcept;
+  GlVertexInput& operator=(GlVertexInput&&) noexcept;
+
+ private:
+  friend class GlFramebuffer;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // KHR_blend_equation_advanced's equations (GL_MULTIPLY_KHR ... GL_HSL_LUMINOSITY_KHR), in its order.
 enum class AdvancedBlend {
   Multiply, Screen, Overlay, Darken, Lighten, ColorDodge, ColorBurn, HardLight, SoftLight, Difference,
@@ -164,6 +187,9 @@ struct GlDrawCall {
   // one it uses left out, throws InvalidArgument).
   std::vector<GlAttribute> attributes;
   GlIndices indices;
+  // Or, instead of attributes and indices, both uploaded once for this program (a vertex input made
+  // for another program, or given with attributes or indices, throws InvalidArgument).
+  const GlVertexInput* vertex_input = nullptr;
   std::uint32_t first = 0;              // first index (or vertex, when there are no indices)
   // Number of indices (or vertices). kAllElements: to the end of the indices, or of the shortest
   // per-vertex attribute (a draw with neither must give the count).
