@@ -360,7 +360,7 @@ TEST(CliBench, TableHasARowPerSceneAndWritesThePictures) {
   const CliResult result =
       run_cli({"bench", "--scenes", "fill-16", "--size", "32x16", "--frames", "1", "--pictures", pictures.string()});
   ASSERT_TRUE(succeeded(result));
-  EXPECT_TRUE(mentions(result.out, "\nfill-16             32 32x16 "));
+  EXPECT_TRUE(mentions(result.out, "\nfill-16               32     1 32x16 "));
   EXPECT_TRUE(mentions(result.out, "geometric mean of the ratios (clraster / llvmpipe): "));
   const Image ours = io::load_png((pictures / "fill-16-clraster.png").string());
   EXPECT_TRUE(images_match(ours, io::load_png((pictures / "fill-16-llvmpipe.png").string()), kExact));
