@@ -2,14 +2,13 @@
 // core through headless EGL) as plainly as a user after speed would, and times its frames in turn
 // with those of the path the benchmark times (bench::GlScene, the OpenGL oracle), in one process,
 // checking that both draw the same picture. Usage:
-//   build/bench/clraster_gl_minimal [--scenes model-50k,fill-16,parts-256] [--frames 9] [--size 1920x1080]
+//   build/bench/clraster_gl_minimal [--scenes model-50k,fill-16,materials-256] [--frames 9] [--size 1920x1080]
 //
 // The plain way: renderbuffers of the oracle's formats (RGBA8, 32-bit float depth), one small GLSL
 // program per scene, one vertex array, all state set once; a frame is one glClear, per part a
-// glUniform4fv of its colour and a glDrawElements, and glFinish. Besides the benchmark's scenes
-// there is parts-256: model-50k's knot in 256 parts of consecutive triangles, each its own colour,
-// drawn with the material program part by part as the command line draws a model of 256
-// materials.
+// glUniform4fv of its colour and a glDrawElements, and glFinish. The scenes of materials
+// (materials-256, engine-glb) are drawn part by part with the material program, as the command line
+// draws a model.
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
 #include "cli/model_draws.hpp"
@@ -37,9 +36,6 @@ namespace {
 
 using namespace clraster;
 using Clock = std::chrono::steady_clock;
-
-constexpr const char* kPartsScene = "parts-256";
-constexpr int kParts = 256;
 
 // ---- OpenGL, the plain way ------------------------------------------------------------------------
 
@@ -293,45 +289,35 @@ class LeanScene {
 
 // ---- The scenes -----------------------------------------------------------------------------------
 
-// The benchmark scene `name`, or parts-256, both for the lean program and for the oracle's path.
+// The benchmark scene `name`, both for the lean program and for the oracle's path.
 struct SceneSetup {
   LeanSceneData lean;
   bench::Scene scene;
-  std::optional<io::Model> model;  // parts-256's, which the oracle draws part by part
   DrawState state;
 };
 
 SceneSetup make_setup(const std::string& name, int width, int height) {
   SceneSetup setup;
-  setup.scene = bench::make_scene(name == kPartsScene ? "model-50k" : name);
+  setup.scene = bench::make_scene(name);
   const bench::Scene& scene = setup.scene;
   setup.state = scene.state(width, height);
   LeanSceneData& lean = setup.lean;
-  lean.mesh = scene.mesh;
+  lean.mesh = scene.model;
   lean.depth_test = setup.state.depth_test;
   lean.mvp = pipeline::model_view_projection(setup.state);
   lean.view = cli::view_inputs(scene.camera, width, height);
-  const auto index_count = static_cast<std::uint32_t>(scene.mesh.indices.size());
-  if (name == kPartsScene) {
+  const auto index_count = static_cast<std::uint32_t>(scene.model.indices.size());
+  if (scene.draws_materials()) {
     lean.shading = LeanShading::Material;
-    io::Model model;
-    static_cast<io::Mesh&>(model) = scene.mesh;
-    const std::uint32_t triangles = index_count / 3;
-    for (std::uint32_t i = 0; i < kParts; ++i) {
-      const std::uint32_t first = 3 * (triangles * i / kParts);
-      const std::uint32_t end = 3 * (triangles * (i + 1) / kParts);
-      io::Material material;
-      material.base_color_factor = {0.3f + 0.1f * float(i % 8), 0.3f + 0.1f * float(i / 8 % 8),
-                                    0.3f + 0.2f * float(i / 64), 1.0f};
-      model.materials.push_back(material);
-      model.parts.push_back({first, end - first, i});
-      lean.parts.push_back({first, end - first, material.base_color_factor});
+    for (const io::ModelPart& part : scene.model.parts) {
+      const io::Material& material = scene.model.materials.at(part.material);
+      lean.parts.push_back({part.first_index, part.index_count, material.base_color_factor});
+      if (const auto& image = material.base_color_texture) {
+        // One texture, bound once: the scenes have at most one textured material.
+        if (lean.texture) fail("scene " + name + ": the lean check draws one texture only");
+        lean.texture = io::decode_image(image->encoded, name);
+      }
     }
-    setup.model = std::move(model);
-  } else if (scene.material) {
-    lean.shading = LeanShading::Material;
-    lean.parts = {{0, index_count, scene.material->base_color_factor}};
-    if (const auto& image = scene.material->base_color_texture) lean.texture = io::decode_image(image->encoded, name);
   } else {
     const bool additive = setup.state.blend[0].enabled;
     lean.shading = additive ? LeanShading::Overdraw : LeanShading::Normal;
@@ -399,10 +385,7 @@ Options parse(int argc, char** argv) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
-  if (options.scenes.empty()) {
-    options.scenes = bench::scene_names();
-    options.scenes.push_back(kPartsScene);
-  }
+  if (options.scenes.empty()) options.scenes = bench::scene_names();
   return options;
 }
 
@@ -416,23 +399,18 @@ int main(int argc, char** argv) try {
   for (const std::string& name : options.scenes) {
     const SceneSetup setup = make_setup(name, options.width, options.height);
     const LeanScene lean(context, setup.lean, options.width, options.height);
-    std::optional<bench::GlScene> oracle;
-    if (setup.model) {
-      oracle.emplace(*setup.model, setup.scene.camera, setup.state, options.width, options.height, name);
-    } else {
-      oracle.emplace(setup.scene, setup.state, options.width, options.height);
-    }
+    bench::GlScene oracle(setup.scene, setup.state, options.width, options.height);
     std::vector<double> lean_ms;
     std::vector<double> oracle_ms;
     for (int i = 0; i < bench::kWarmupFrames + options.frames; ++i) {
       lean.make_current();
       const double lean_frame = time_frame([&] { lean.frame(); });
-      const double oracle_frame = time_frame([&] { oracle->frame(); });
+      const double oracle_frame = time_frame([&] { oracle.frame(); });
       if (i < bench::kWarmupFrames) continue;
       lean_ms.push_back(lean_frame);
       oracle_ms.push_back(oracle_frame);
     }
-    const Image oracle_picture = oracle->picture();
+    const Image oracle_picture = oracle.picture();
     lean.make_current();
     const double lean_median = median(lean_ms);
     const double oracle_median = median(oracle_ms);

@@ -39,14 +39,14 @@ void print_table_head(std::ostream& out, const RunOptions& options) {
   out << "clraster bench: " << size_text(options.width, options.height) << ", the median of " << options.frames
       << (options.frames == 1 ? " frame" : " frames") << " after " << kWarmupFrames
       << " warm-up frames, clraster and llvmpipe in turn\n\n"
-      << format("%-11s %10s %-10s %9s %9s %6s  %-39s %8s %7s\n", "", "", "", "clraster", "llvmpipe", "",
+      << format("%-13s %10s %5s %-10s %9s %9s %6s  %-39s %8s %7s\n", "", "", "", "", "clraster", "llvmpipe", "",
                 "clraster stages, device ms", "first", "peak")
-      << format("%-11s %10s %-10s %9s %9s %6s  %7s %7s %7s %7s %7s  %8s %7s\n", "scene", "triangles", "size", "ms",
-                "ms", "ratio", "vertex", "setup", "binning", "raster", "other", "frame ms", "MiB");
+      << format("%-13s %10s %5s %-10s %9s %9s %6s  %7s %7s %7s %7s %7s  %8s %7s\n", "scene", "triangles", "draws",
+                "size", "ms", "ms", "ratio", "vertex", "setup", "binning", "raster", "other", "frame ms", "MiB");
 }
 
 std::ostream& print_table_row(std::ostream& out, const SceneResult& result) {
-  out << format("%-11s %10s %-10s ", result.name.c_str(), with_thousands(result.triangles).c_str(),
+  out << format("%-13s %10s %5zu %-10s ", result.name.c_str(), with_thousands(result.triangles).c_str(), result.draws,
                 size_text(result.width, result.height).c_str());
   if (!result.passed) {
     out << format("FAILED: the pictures differ: coverage mismatch %.4f (at most %g), colour mismatch %.4f (at most "
@@ -79,8 +79,8 @@ void print_table_foot(std::ostream& out, const std::vector<SceneResult>& results
     out << "clraster on " << results.front().device << ", " << tile << "x" << tile
         << " tiles; OpenGL: " << results.front().gl_renderer << '\n';
   }
-  out << "stages: the median device time of each stage (OpenCL profiling events); other: index checks and "
-         "transfers (the frame's clear is written by the raster stage)\n"
+  out << "stages: the median device time of each stage (OpenCL profiling events), the frame's draws together; "
+         "other: index checks and transfers (the frame's clear is written by the raster stage)\n"
          "first frame: a new Context's, from its construction (programs from the disk cache) to the finished frame\n";
 }
 
@@ -91,6 +91,7 @@ std::string to_json(const RunOptions& options, const std::vector<SceneResult>& r
     const io::ImageComparison& comparison = result.comparison;
     scenes.push_back({{"name", result.name},
                       {"triangles", result.triangles},
+                      {"draws", result.draws},
                       {"width", result.width},
                       {"height", result.height},
                       {"passed", result.passed},

@@ -34,15 +34,6 @@ double median_of(const std::vector<StageTimes>& frames, double StageTimes::*stag
   return median(values);
 }
 
-// A textured scene as the command line's models are: its mesh as one part, with its material.
-io::Model material_model(const Scene& scene) {
-  io::Model model;
-  static_cast<io::Mesh&>(model) = scene.mesh;
-  model.materials = {*scene.material};
-  model.parts = {{0, static_cast<std::uint32_t>(scene.mesh.indices.size()), 0}};
-  return model;
-}
-
 // A scene's materials are built in and their textures embedded: nothing to warn about. A warning
 // would mean the scene is not drawn as it says.
 void require_no_warnings(const std::vector<std::string>& warnings, const std::string& scene) {
@@ -50,34 +41,37 @@ void require_no_warnings(const std::vector<std::string>& warnings, const std::st
 }
 
 // A scene on clraster: its mesh in device buffers, drawn into textures of the formats GlRenderer
-// draws into, with its built-in shading or with the material program.
+// draws into, with its built-in shading in one draw or with the material program part by part.
 class ClrasterScene {
  public:
   ClrasterScene(Context& context, const Scene& scene, const DrawState& state, int width, int height)
       : context_(context),
-        vertices_(context, scene.mesh.positions, scene.mesh.normals),
-        indices_(context, scene.mesh.indices),
+        vertices_(context, scene.model.positions, scene.model.normals),
+        indices_(context, scene.model.indices),
         color_(context, width, height, Format::RGBA8),
         depth_(context, width, height, Format::Depth32F),
         framebuffer_(context, {&color_}, &depth_) {
-    if (scene.material) {
+    if (scene.draws_materials()) {
       std::vector<std::string> warnings;
-      material_draws_.emplace(context, Program(context, cli::kMaterialProgram, "<material>"), material_model(scene),
+      material_draws_.emplace(context, Program(context, cli::kMaterialProgram, "<material>"), scene.model,
                               cli::view_inputs(scene.camera, width, height), warnings);
       require_no_warnings(warnings, scene.name);
-      call_ = material_draws_->calls(vertices_, indices_, state).front();  // the model's one part
+      calls_ = material_draws_->calls(vertices_, indices_, state);
     } else {
-      call_.vertices = &vertices_;
-      call_.indices = &indices_;
-      call_.state = state;
+      DrawCall& call = calls_.emplace_back();
+      call.vertices = &vertices_;
+      call.indices = &indices_;
+      call.state = state;
     }
   }
-  ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the call point into it
+  ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the calls point into it
   ClrasterScene& operator=(const ClrasterScene&) = delete;
 
+  // The frame's statistics: its draws' together (cli::accumulate).
   DrawStats frame() {
     framebuffer_.clear({0, 0, 0, 1}, 1.0f);
-    const DrawStats stats = framebuffer_.draw(call_);
+    DrawStats stats;
+    for (const DrawCall& call : calls_) cli::accumulate(stats, framebuffer_.draw(call));
     context_.finish();
     return stats;
   }
@@ -92,7 +86,7 @@ class ClrasterScene {
   Texture depth_;
   Framebuffer framebuffer_;
   std::optional<cli::ClrasterModelDraws> material_draws_;
-  DrawCall call_;
+  std::vector<DrawCall> calls_;
 };
 
 // As an application would draw its first frame: without profiling.
@@ -122,25 +116,14 @@ void keep_freed_memory() {
 
 GlScene::GlScene(const Scene& scene, const DrawState& state, int width, int height)
     : renderer_(width, height), state_(state) {
-  if (scene.material) {
-    use_material_draws(material_model(scene), scene.camera, width, height, scene.name);
+  if (scene.draws_materials()) {
+    model_ = scene.model;
+    std::vector<std::string> warnings;
+    material_draws_.emplace(*model_, cli::view_inputs(scene.camera, width, height), warnings);
+    require_no_warnings(warnings, scene.name);
   } else {
-    mesh_.emplace(scene.mesh.positions, scene.mesh.normals, scene.mesh.indices);
+    mesh_.emplace(scene.model.positions, scene.model.normals, scene.model.indices);
   }
-}
-
-GlScene::GlScene(io::Model model, const io::Camera& camera, const DrawState& state, int width, int height,
-                 const std::string& name)
-    : renderer_(width, height), state_(state) {
-  use_material_draws(std::move(model), camera, width, height, name);
-}
-
-void GlScene::use_material_draws(io::Model model, const io::Camera& camera, int width, int height,
-                                 const std::string& name) {
-  model_ = std::move(model);
-  std::vector<std::string> warnings;
-  material_draws_.emplace(*model_, cli::view_inputs(camera, width, height), warnings);
-  require_no_warnings(warnings, name);
 }
 
 void GlScene::frame() {
@@ -163,7 +146,8 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
   SceneRun run;
   SceneResult& result = run.result;
   result.name = scene.name;
-  result.triangles = scene.mesh.triangle_count();
+  result.triangles = scene.model.triangle_count();
+  result.draws = scene.draw_count();
   result.width = options.width;
   result.height = options.height;
   {

@@ -2,8 +2,9 @@
 // same process, a frame of one then a frame of the other, and checks that both drew the same
 // picture.
 //
-// A frame is the same for both: clear to (0, 0, 0, 1) and depth 1, one draw from buffers uploaded
-// before, finish (Context::finish, glFinish), timed with steady_clock around the three. Both draw
+// A frame is the same for both: clear to (0, 0, 0, 1) and depth 1, the scene's draws (one, or one
+// per part of a model) from buffers uploaded before, finish (Context::finish, glFinish), timed with
+// steady_clock around the three. Both draw
 // into an RGBA8 colour and a Depth32F depth attachment (no stencil to clear). Nothing is read back
 // inside a frame, and every clraster frame runs every pipeline stage: of an earlier frame the
 // library keeps only what it read of the index buffer, the largest index of the range and the index
@@ -42,6 +43,7 @@ inline constexpr io::Tolerance kTolerance = io::kNormalShading;
 struct SceneResult {
   std::string name;
   std::uint64_t triangles = 0;
+  std::size_t draws = 0;
   int width = 0;
   int height = 0;
   std::string device;       // clraster's OpenCL device
@@ -52,7 +54,8 @@ struct SceneResult {
   double clraster_ms = 0;  // the medians of those
   double gl_ms = 0;
   // Per stage, the median over the timed frames of the stage's device time (OpenCL profiling
-  // events). The frame's clears are pending until the raster stage writes them with its tiles.
+  // events), summed over the frame's draws. The frame's clears are pending until the raster stage
+  // writes them with its tiles.
   StageTimes stage_ms;
   // A new Context's first frame: from the Context's construction (programs loaded from the disk
   // cache, which the timed context filled if it was empty) to the end of its first frame, uploads
@@ -72,16 +75,13 @@ struct SceneRun {
 };
 
 // A scene on llvmpipe as the benchmark draws it, through the OpenGL oracle: its mesh with its
-// built-in shading in one draw, or a model with the material program part by part, as the command
-// line draws models (cli::GlMaterialDraws). bench/gl_minimal.cpp times it against OpenGL used
-// directly.
+// built-in shading in one draw, or its model with the material program part by part, as the
+// command line draws models (cli::GlMaterialDraws). bench/gl_minimal.cpp times it against OpenGL
+// used directly.
 class GlScene {
  public:
   GlScene(const Scene& scene, const DrawState& state, int width, int height);
-  // `model` drawn with the material program seen from `camera`; `name` is the scene's, for errors.
-  GlScene(io::Model model, const io::Camera& camera, const DrawState& state, int width, int height,
-          const std::string& name);
-  GlScene(const GlScene&) = delete;  // the material's draws point into the model
+  GlScene(const GlScene&) = delete;  // the material draws point into the model
   GlScene& operator=(const GlScene&) = delete;
 
   // Clears to (0, 0, 0, 1) and depth 1, draws, and waits for the rendering (glFinish).
@@ -90,12 +90,10 @@ class GlScene {
   std::string renderer() const;
 
  private:
-  void use_material_draws(io::Model model, const io::Camera& camera, int width, int height, const std::string& name);
-
   oracle::GlRenderer renderer_;
   DrawState state_;
   std::optional<oracle::GlMesh> mesh_;  // a scene with a built-in shading
-  std::optional<io::Model> model_;      // or a model with materials
+  std::optional<io::Model> model_;      // or one with materials, drawn part by part
   std::optional<cli::GlMaterialDraws> material_draws_;
 };
 

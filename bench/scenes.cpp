@@ -5,9 +5,21 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 
 namespace clraster::bench {
 namespace {
+
+// The picture size the scenes are made for: models without a camera of their own are framed for it.
+constexpr float kDesignAspect = 1920.0f / 1080.0f;
+
+// materials-256's number of parts.
+constexpr std::uint32_t kMaterialParts = 256;
+
+// engine-glb's model, and the package that installs the scenes' model files (scripts/setup.sh).
+constexpr const char* kEngineModel = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+constexpr const char* kModelPackage = "assimp-testmodels";
 
 io::Camera camera(glm::vec3 eye, glm::vec3 target, float fov_degrees, float near_plane, float far_plane) {
   io::Camera camera;
@@ -22,6 +34,13 @@ io::Camera camera(glm::vec3 eye, glm::vec3 target, float fov_degrees, float near
 // A trefoil: a closed tube of 500 rings of 50 vertices, 2 * 500 * 50 triangles. Its strands are
 // 1.66 apart at their closest, so a tube of radius 0.6 does not meet itself.
 io::Mesh knot() { return io::make_torus_knot(2, 3, 500, 50, 2, 1, 0.6f); }
+
+// A mesh drawn with a built-in shading: a model without materials or parts.
+io::Model model_of(io::Mesh mesh) {
+  io::Model model;
+  static_cast<io::Mesh&>(model) = std::move(mesh);
+  return model;
+}
 
 // A 16 x 16 landscape: about four hills across, up to 0.8 high.
 io::Mesh landscape(int cells) { return io::make_terrain(cells, cells, 16, 16, 0.8f, 7); }
@@ -38,7 +57,7 @@ io::Mesh tiny_cells() { return io::make_plane(1024, 512, 1.1f, 0.55f); }
 // The knot with texture coordinates projected from above, (u, v) = (x, z) / 2: the 1024-texel
 // texture repeats three to four times across the knot, 3 to 4 texels a pixel at 1920x1080 (level
 // of detail 1.6 to 2), more on the tube's steep sides.
-io::Mesh textured_knot() {
+io::Mesh textured_knot_mesh() {
   io::Mesh mesh = knot();
   mesh.texcoords.reserve(2 * mesh.vertex_count());
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -75,13 +94,61 @@ io::Material pattern_material() {
   return material;
 }
 
+// The textured knot as one part with the pattern material.
+io::Model textured_knot() {
+  io::Model model = model_of(textured_knot_mesh());
+  model.materials = {pattern_material()};
+  model.parts = {{0, static_cast<std::uint32_t>(model.indices.size()), 0}};
+  return model;
+}
+
+// The knot in kMaterialParts parts of consecutive triangles, as many as can be alike, each with a
+// colour of its own from an 8 x 8 x 4 grid: the parts of a model of many materials, whose draws
+// each shade a small piece of the picture.
+io::Model knot_in_parts() {
+  io::Model model = model_of(knot());
+  const auto triangles = static_cast<std::uint32_t>(model.triangle_count());
+  for (std::uint32_t i = 0; i < kMaterialParts; ++i) {
+    const std::uint32_t first = 3 * (triangles * i / kMaterialParts);
+    const std::uint32_t end = 3 * (triangles * (i + 1) / kMaterialParts);
+    io::Material& material = model.materials.emplace_back();
+    material.name = "part " + std::to_string(i);
+    material.base_color_factor = {0.3f + 0.1f * float(i % 8), 0.3f + 0.1f * float(i / 8 % 8),
+                                  0.3f + 0.2f * float(i / 64), 1.0f};
+    model.parts.push_back({first, end - first, i});
+  }
+  return model;
+}
+
+// assimp's engine as the command line loads it.
+io::Model engine() {
+  std::vector<std::string> warnings;
+  io::Model model = io::load_model(kEngineModel, warnings);
+  // A warning would mean the scene is not drawn as it says.
+  warnings.insert(warnings.end(), model.material_warnings.begin(), model.material_warnings.end());
+  if (!warnings.empty()) {
+    throw Error(std::string("benchmark scene engine-glb: ") + kEngineModel + ": " + warnings.front());
+  }
+  return model;
+}
+
 struct SceneDefinition {
   std::string name;
-  io::Mesh (*mesh)();
-  io::Camera camera;
-  io::BuiltinShading shading;
-  io::Material (*material)() = nullptr;  // for textured scenes
+  io::Model (*model)();
+  // None: framed as `render` frames a model by default (io::fit_camera), at kDesignAspect.
+  std::optional<io::Camera> camera;
+  io::BuiltinShading shading = io::BuiltinShading::Normal;  // for scenes without parts
+  const char* model_file = nullptr;                         // for a scene loaded from a file
 };
+
+// A missing model file is an error, not a scene left out: a run that quietly drew fewer scenes
+// would not compare with another.
+void require_model_file(const SceneDefinition& scene) {
+  if (scene.model_file && !std::filesystem::exists(scene.model_file)) {
+    throw Error("benchmark scene " + scene.name + ": " + scene.model_file + " is missing (install the package " +
+                kModelPackage + ", as scripts/setup.sh does)");
+  }
+}
 
 const std::vector<SceneDefinition>& definitions() {
   using io::BuiltinShading;
@@ -93,12 +160,16 @@ const std::vector<SceneDefinition>& definitions() {
   // picture.
   const io::Camera knot_view = camera({0.0f, 5.8f, 5.6f}, {0.0f, 0.0f, 0.7f}, 45, 3.0f, 12.0f);
   static const std::vector<SceneDefinition> scenes{
-      {"model-50k", knot, knot_view, BuiltinShading::Normal},
-      {"terrain-1m", [] { return landscape(708); }, landscape_view, BuiltinShading::Normal},
-      {"terrain-4m", [] { return landscape(1415); }, landscape_view, BuiltinShading::Normal},
-      {"fill-16", layers, camera({0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 45, 0.5f, 2.0f), BuiltinShading::Overdraw},
-      {"tiny-1m", tiny_cells, camera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 45, 1.0f, 3.0f), BuiltinShading::Normal},
-      {"textured-50k", textured_knot, knot_view, BuiltinShading::Normal, pattern_material},
+      {"model-50k", [] { return model_of(knot()); }, knot_view, BuiltinShading::Normal},
+      {"terrain-1m", [] { return model_of(landscape(708)); }, landscape_view, BuiltinShading::Normal},
+      {"terrain-4m", [] { return model_of(landscape(1415)); }, landscape_view, BuiltinShading::Normal},
+      {"fill-16", [] { return model_of(layers()); }, camera({0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}, 45, 0.5f, 2.0f),
+       BuiltinShading::Overdraw},
+      {"tiny-1m", [] { return model_of(tiny_cells()); }, camera({0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 45, 1.0f, 3.0f),
+       BuiltinShading::Normal},
+      {"textured-50k", textured_knot, knot_view},
+      {"materials-256", knot_in_parts, knot_view},
+      {"engine-glb", engine, std::nullopt, BuiltinShading::Normal, kEngineModel},
   };
   return scenes;
 }
@@ -141,16 +212,18 @@ std::vector<std::string> parse_scene_list(const std::string& list) {
   for (;;) {
     const std::size_t comma = list.find(',', start);
     names.push_back(list.substr(start, comma - start));
-    definition(names.back());
+    require_model_file(definition(names.back()));
     if (comma == std::string::npos) return names;
     start = comma + 1;
   }
 }
 
 Scene make_scene(const std::string& name) {
-  const SceneDefinition& scene = definition(name);
-  return {scene.name, scene.mesh(), scene.camera, scene.shading,
-          scene.material ? std::optional(scene.material()) : std::nullopt};
+  const SceneDefinition& defined = definition(name);
+  require_model_file(defined);
+  Scene scene{defined.name, defined.model(), {}, defined.shading};
+  scene.camera = defined.camera ? *defined.camera : io::fit_camera(io::bounding_sphere(scene.model), kDesignAspect);
+  return scene;
 }
 
 }  // namespace clraster::bench

@@ -1,7 +1,8 @@
-// The scenes of `clraster bench`: fixed procedural meshes, each drawn in one draw with one of the
-// command line's built-in shadings from a fixed camera. They are made for 1920x1080, the
-// benchmark's default size; at another size the same view is drawn, its projection following the
-// aspect.
+// The scenes of `clraster bench`, each drawn from a fixed camera: fixed procedural meshes drawn in
+// one draw with one of the command line's built-in shadings, and models drawn part by part with the
+// material program, one draw per part, as `render --shading material` draws models
+// (cli/model_draws.hpp). They are made for 1920x1080, the benchmark's default size; at another
+// size the same view is drawn, its projection following the aspect.
 //
 //   model-50k   a trefoil knot of 50,000 triangles, smooth and closed, over 37% of the picture,
 //               crossing itself in depth; normal shading, depth test
@@ -13,11 +14,15 @@
 //   tiny-1m     a plane facing the camera of 1024 x 512 cells of 0.7 pixel (1,048,576 triangles of
 //               a quarter of a pixel each), in the middle of the picture; normal shading, depth test
 //   textured-50k  model-50k's knot and view with a 1024x1024 texture mapped from above, 3 to 4 texels
-//               a pixel (trilinear), drawn as `render --shading material` draws models: the
-//               material program (programs/material.cl), its texture times a headlight; depth test
+//               a pixel (trilinear): one part, the material program, its texture times a headlight;
+//               depth test
+//   materials-256  model-50k's knot and view in 256 parts of consecutive triangles (195 or 196
+//               each), each with a material colour of its own: 256 draws, depth test
+//   engine-glb  assimp's 2CylinderEngine.glb (package assimp-testmodels; 121,496 triangles in 108
+//               parts, one per mesh and node), framed as `render` frames a model by default at
+//               1920x1080; material colours, depth test
 #pragma once
 
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,14 +36,18 @@ namespace clraster::bench {
 
 struct Scene {
   std::string name;
-  io::Mesh mesh;
+  // The triangles; a scene of materials has its materials and its parts as well.
+  io::Model model;
   io::Camera camera;
+  // How a scene without parts is drawn, in one draw.
   io::BuiltinShading shading = io::BuiltinShading::Normal;
-  // A textured scene's material: the mesh, one part, is drawn with the material program as the
-  // command line draws models (cli/model_draws.hpp) instead of with `shading`.
-  std::optional<io::Material> material;
 
-  // The one draw's state for a width x height picture.
+  // A scene with parts is drawn with the material program instead of with `shading`, a draw per
+  // part.
+  bool draws_materials() const { return !model.parts.empty(); }
+  std::size_t draw_count() const { return draws_materials() ? model.parts.size() : 1; }
+
+  // The fixed-function state of every draw for a width x height picture.
   DrawState state(int width, int height) const;
 };
 
@@ -47,12 +56,14 @@ const std::vector<std::string>& scene_names();
 std::string scene_names_text();
 
 // The scenes of a comma-separated list of names, in its order; an empty list is every scene.
-// Throws InvalidArgument for a name that is not a scene's (the message lists the scenes), before
-// any scene is built.
+// Throws InvalidArgument for a name that is not a scene's (the message lists the scenes), and
+// clraster::Error naming the file and its package when a chosen scene's model file is missing,
+// before any scene is built.
 std::vector<std::string> parse_scene_list(const std::string& list);
 
 // Builds the named scene: deterministic, the same bytes on every run; the largest take seconds.
-// Throws InvalidArgument for a name that is not a scene's.
+// Throws InvalidArgument for a name that is not a scene's, and clraster::Error when its model file
+// is missing (as parse_scene_list) or loads with warnings.
 Scene make_scene(const std::string& name);
 
 }  // namespace clraster::bench

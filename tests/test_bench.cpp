@@ -1,8 +1,8 @@
-// The benchmark behind `clraster bench`, without timing anything: its scenes have the triangles
-// they advertise, tiny-1m's are at most a pixel, the cameras frame the scenes as described, the
-// textured scene draws as llvmpipe does, and the report leaves scenes that failed out of the
-// geometric mean. (tests/test_cli.cpp runs the
-// command itself.)
+// The benchmark behind `clraster bench`, without timing anything: its scenes have the triangles and
+// draws they advertise and are built the same every time, tiny-1m's are at most a pixel, the
+// cameras frame the scenes as described, the scenes of materials draw as llvmpipe does, and the
+// report leaves scenes that failed out of the geometric mean. (tests/test_cli.cpp runs the command
+// itself.)
 #include "bench/report.hpp"
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
@@ -17,6 +17,7 @@
 #include <glm/vec4.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -44,7 +45,7 @@ double coverage(const Image& image) {
 
 TEST(BenchScenes, NamesInTheirOrder) {
   EXPECT_EQ(scene_names(), (std::vector<std::string>{"model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
-                                                     "textured-50k"}));
+                                                     "textured-50k", "materials-256", "engine-glb"}));
   EXPECT_EQ(parse_scene_list(""), scene_names());
   EXPECT_EQ(parse_scene_list("tiny-1m,model-50k"), (std::vector<std::string>{"tiny-1m", "model-50k"}));
   for (const char* list : {"teapot", "model-50k,teapot", "model-50k,", "Model-50k"}) {
@@ -53,7 +54,9 @@ TEST(BenchScenes, NamesInTheirOrder) {
       ADD_FAILURE() << list << ": no error";
     } catch (const InvalidArgument& error) {
       EXPECT_PRED_FORMAT2(::testing::IsSubstring,
-                          "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m, textured-50k)", error.what());
+                          "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m, textured-50k, "
+                          "materials-256, engine-glb)",
+                          error.what());
     }
   }
   EXPECT_THROW(make_scene("teapot"), InvalidArgument);
@@ -61,30 +64,44 @@ TEST(BenchScenes, NamesInTheirOrder) {
 
 struct AdvertisedCount {
   const char* name;
-  std::uint64_t triangles;  // exactly, as the generator makes them
+  std::uint64_t triangles;  // exactly, as the generator (or the model file) makes them
   std::uint64_t at_least;   // what the scene stands for
   std::uint64_t at_most;
+  std::size_t draws;        // a draw per part of a scene of materials
 };
 
 class BenchSceneTriangles : public ::testing::TestWithParam<AdvertisedCount> {};
 
-TEST_P(BenchSceneTriangles, AreTheAdvertisedCount) {
+TEST_P(BenchSceneTriangles, AreTheAdvertisedCountInTheAdvertisedDraws) {
   const AdvertisedCount& count = GetParam();
   const Scene& built = scene(count.name);
   EXPECT_EQ(built.name, count.name);
-  EXPECT_EQ(built.mesh.triangle_count(), count.triangles);
-  EXPECT_GE(built.mesh.triangle_count(), count.at_least);
-  EXPECT_LE(built.mesh.triangle_count(), count.at_most);
+  EXPECT_EQ(built.model.triangle_count(), count.triangles);
+  EXPECT_GE(built.model.triangle_count(), count.at_least);
+  EXPECT_LE(built.model.triangle_count(), count.at_most);
+  EXPECT_EQ(built.draw_count(), count.draws);
+  EXPECT_EQ(built.draws_materials(), !built.model.parts.empty());
+  // The parts, in index order, cover every triangle once.
+  std::uint32_t next = 0;
+  for (const io::ModelPart& part : built.model.parts) {
+    EXPECT_EQ(part.first_index, next);
+    EXPECT_GT(part.index_count, 0u);
+    EXPECT_LT(part.material, built.model.materials.size());
+    next += part.index_count;
+  }
+  if (built.draws_materials()) EXPECT_EQ(next, built.model.indices.size());
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Scenes, BenchSceneTriangles,
-    ::testing::Values(AdvertisedCount{"model-50k", 2 * 500 * 50, 45'000, 55'000},
-                      AdvertisedCount{"terrain-1m", 2 * 708 * 708, 1'000'000, 1'100'000},
-                      AdvertisedCount{"terrain-4m", 2 * 1415 * 1415, 4'000'000, 4'100'000},
-                      AdvertisedCount{"fill-16", 16 * 2, 32, 32},
-                      AdvertisedCount{"tiny-1m", 2 * 1024 * 512, 1'000'000, 1'100'000},
-                      AdvertisedCount{"textured-50k", 2 * 500 * 50, 45'000, 55'000}),
+    ::testing::Values(AdvertisedCount{"model-50k", 2 * 500 * 50, 45'000, 55'000, 1},
+                      AdvertisedCount{"terrain-1m", 2 * 708 * 708, 1'000'000, 1'100'000, 1},
+                      AdvertisedCount{"terrain-4m", 2 * 1415 * 1415, 4'000'000, 4'100'000, 1},
+                      AdvertisedCount{"fill-16", 16 * 2, 32, 32, 1},
+                      AdvertisedCount{"tiny-1m", 2 * 1024 * 512, 1'000'000, 1'100'000, 1},
+                      AdvertisedCount{"textured-50k", 2 * 500 * 50, 45'000, 55'000, 1},
+                      AdvertisedCount{"materials-256", 2 * 500 * 50, 45'000, 55'000, 256},
+                      AdvertisedCount{"engine-glb", 121'496, 100'000, 150'000, 108}),
     [](const auto& info) {
       std::string name = info.param.name;
       std::replace(name.begin(), name.end(), '-', '_');
@@ -96,18 +113,18 @@ TEST(BenchScenes, TinyTrianglesAreAtMostOnePixelAndAllInView) {
   const glm::dmat4 clip = glm::dmat4(io::projection_matrix(tiny.camera, static_cast<float>(kWidth) / kHeight)) *
                           glm::dmat4(io::view_matrix(tiny.camera));
   // Window coordinates at 1920x1080, as the viewport transform gives them.
-  std::vector<glm::dvec2> window(tiny.mesh.vertex_count());
+  std::vector<glm::dvec2> window(tiny.model.vertex_count());
   for (std::uint32_t v = 0; v < window.size(); ++v) {
-    const glm::dvec4 p = clip * glm::dvec4(test::position(tiny.mesh, v), 1);
+    const glm::dvec4 p = clip * glm::dvec4(test::position(tiny.model, v), 1);
     ASSERT_GT(p.w, 0);
     window[v] = {(p.x / p.w + 1) * kWidth / 2, (p.y / p.w + 1) * kHeight / 2};
     ASSERT_TRUE(window[v].x > 0 && window[v].x < kWidth && window[v].y > 0 && window[v].y < kHeight) << "vertex " << v;
   }
   double largest = 0;
-  for (std::size_t t = 0; t < tiny.mesh.triangle_count(); ++t) {
-    const glm::dvec2 a = window[tiny.mesh.indices[3 * t]];
-    const glm::dvec2 b = window[tiny.mesh.indices[3 * t + 1]];
-    const glm::dvec2 c = window[tiny.mesh.indices[3 * t + 2]];
+  for (std::size_t t = 0; t < tiny.model.triangle_count(); ++t) {
+    const glm::dvec2 a = window[tiny.model.indices[3 * t]];
+    const glm::dvec2 b = window[tiny.model.indices[3 * t + 1]];
+    const glm::dvec2 c = window[tiny.model.indices[3 * t + 2]];
     const double area = std::abs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)) / 2;
     ASSERT_LE(area, 1.0) << "triangle " << t;
     const glm::dvec2 extent = glm::max(glm::max(a, b), c) - glm::min(glm::min(a, b), c);
@@ -122,22 +139,40 @@ constexpr int kSmallWidth = 384;
 constexpr int kSmallHeight = 216;
 
 Image draw_small(const Scene& drawn) {
-  return test::render_clraster(test::shared_context(), drawn.mesh, drawn.state(kSmallWidth, kSmallHeight), kSmallWidth,
+  return test::render_clraster(test::shared_context(), drawn.model, drawn.state(kSmallWidth, kSmallHeight), kSmallWidth,
                                kSmallHeight)
       .image;
+}
+
+// Whether anything is drawn on the outermost rows and columns of `picture`.
+bool touches_edges(const Image& picture) {
+  const auto covered = [&](int x, int y) {
+    const std::uint8_t* pixel = &picture.rgba[4 * (std::size_t(y) * picture.width + x)];
+    return (pixel[0] | pixel[1] | pixel[2]) != 0;
+  };
+  for (int y = 0; y < picture.height; ++y) {
+    if (covered(0, y) || covered(picture.width - 1, y)) return true;
+  }
+  for (int x = 0; x < picture.width; ++x) {
+    if (covered(x, 0) || covered(x, picture.height - 1)) return true;
+  }
+  return false;
+}
+
+// The scene run as the benchmark runs it, at the small size, for one timed frame.
+SceneRun run_small(const Scene& drawn) {
+  RunOptions options;
+  options.width = kSmallWidth;
+  options.height = kSmallHeight;
+  options.frames = 1;
+  return run_scene(drawn, options);
 }
 
 TEST(BenchScenes, ModelCoversAThirdToAHalfOfThePictureAndIsFramed) {
   const Image picture = draw_small(scene("model-50k"));
   EXPECT_GE(coverage(picture), 1.0 / 3);
   EXPECT_LE(coverage(picture), 0.5);
-  // Nothing of the knot touches the picture's edges.
-  const auto background = [&](int x, int y) {
-    const std::uint8_t* pixel = &picture.rgba[4 * (std::size_t(y) * kSmallWidth + x)];
-    return (pixel[0] | pixel[1] | pixel[2]) == 0;
-  };
-  for (int y = 0; y < kSmallHeight; ++y) EXPECT_TRUE(background(0, y) && background(kSmallWidth - 1, y)) << "row " << y;
-  for (int x = 0; x < kSmallWidth; ++x) EXPECT_TRUE(background(x, 0) && background(x, kSmallHeight - 1)) << "column " << x;
+  EXPECT_FALSE(touches_edges(picture));
 }
 
 TEST(BenchScenes, TerrainFillsThePicture) {
@@ -148,8 +183,8 @@ TEST(BenchScenes, TerrainFillsThePicture) {
   EXPECT_EQ(fine.camera.eye, coarse.camera.eye);
   EXPECT_EQ(fine.camera.target, coarse.camera.target);
   EXPECT_EQ(fine.camera.fov_degrees, coarse.camera.fov_degrees);
-  const io::BoundingSphere fine_bounds = io::bounding_sphere(fine.mesh);
-  const io::BoundingSphere coarse_bounds = io::bounding_sphere(coarse.mesh);
+  const io::BoundingSphere fine_bounds = io::bounding_sphere(fine.model);
+  const io::BoundingSphere coarse_bounds = io::bounding_sphere(coarse.model);
   EXPECT_NEAR(fine_bounds.radius, coarse_bounds.radius, 0.01f);
 }
 
@@ -160,26 +195,84 @@ TEST(BenchScenes, TerrainFillsThePicture) {
 TEST(BenchScenes, TexturedKnotIsDrawnAsLlvmpipeDrawsIt) {
   const Scene& textured = scene("textured-50k");
   const Scene& plain = scene("model-50k");
-  EXPECT_EQ(textured.mesh.positions, plain.mesh.positions);
-  EXPECT_EQ(textured.mesh.indices, plain.mesh.indices);
-  EXPECT_EQ(textured.mesh.texcoords.size(), 2 * textured.mesh.vertex_count());
+  EXPECT_EQ(textured.model.positions, plain.model.positions);
+  EXPECT_EQ(textured.model.indices, plain.model.indices);
+  EXPECT_EQ(textured.model.texcoords.size(), 2 * textured.model.vertex_count());
   EXPECT_EQ(textured.camera.eye, plain.camera.eye);
-  EXPECT_FALSE(plain.material.has_value());
-  ASSERT_TRUE(textured.material.has_value() && textured.material->base_color_texture.has_value());
-  const Image texture = io::decode_image(textured.material->base_color_texture->encoded, "the texture");
+  EXPECT_FALSE(plain.draws_materials());
+  ASSERT_EQ(textured.model.materials.size(), 1u);
+  ASSERT_TRUE(textured.model.materials[0].base_color_texture.has_value());
+  const Image texture = io::decode_image(textured.model.materials[0].base_color_texture->encoded, "the texture");
   EXPECT_EQ(texture.width, 1024);
   EXPECT_EQ(texture.height, 1024);
 
-  RunOptions options;
-  options.width = kSmallWidth;
-  options.height = kSmallHeight;
-  options.frames = 1;
-  const SceneRun run = run_scene(textured, options);
+  const SceneRun run = run_small(textured);
   EXPECT_TRUE(run.result.passed) << "coverage mismatch " << run.result.comparison.coverage_mismatch
                                  << ", colour mismatch " << run.result.comparison.colour_mismatch;
   EXPECT_TRUE(test::images_match(run.clraster_picture, run.gl_picture, kTolerance));  // leaves the pictures
   EXPECT_EQ(test::covered_pixel_count(run.clraster_picture), test::covered_pixel_count(draw_small(plain)));
 }
+
+// materials-256 is model-50k's knot and view cut into 256 runs of 195 or 196 triangles, each with a
+// material colour of its own.
+TEST(BenchScenes, KnotOfMaterialsIsTheKnotInPartsOfTheirOwnColour) {
+  const Scene& parts = scene("materials-256");
+  const Scene& plain = scene("model-50k");
+  EXPECT_EQ(parts.model.positions, plain.model.positions);
+  EXPECT_EQ(parts.model.indices, plain.model.indices);
+  EXPECT_EQ(parts.camera.eye, plain.camera.eye);
+  EXPECT_EQ(parts.camera.target, plain.camera.target);
+  ASSERT_EQ(parts.model.materials.size(), 256u);
+  std::vector<std::array<float, 4>> colours;
+  for (std::size_t i = 0; i < parts.model.parts.size(); ++i) {
+    const io::ModelPart& part = parts.model.parts[i];
+    EXPECT_EQ(part.material, i);
+    EXPECT_TRUE(part.index_count == 3 * 195 || part.index_count == 3 * 196) << "part " << i;
+    EXPECT_FALSE(parts.model.materials[i].base_color_texture.has_value());
+    colours.push_back(parts.model.materials[i].base_color_factor);
+  }
+  std::sort(colours.begin(), colours.end());
+  EXPECT_EQ(std::unique(colours.begin(), colours.end()), colours.end()) << "two parts of one colour";
+}
+
+// The scenes of many draws are built the same way every time (the engine from its file).
+TEST(BenchScenes, ScenesOfManyDrawsAreDeterministic) {
+  for (const char* name : {"materials-256", "engine-glb"}) {
+    const Scene again = make_scene(name);
+    const Scene& first = scene(name);
+    EXPECT_EQ(again.model.positions, first.model.positions) << name;
+    EXPECT_EQ(again.model.normals, first.model.normals) << name;
+    EXPECT_EQ(again.model.indices, first.model.indices) << name;
+    EXPECT_EQ(again.model.parts, first.model.parts) << name;
+    ASSERT_EQ(again.model.materials.size(), first.model.materials.size()) << name;
+    for (std::size_t i = 0; i < again.model.materials.size(); ++i) {
+      EXPECT_EQ(again.model.materials[i].base_color_factor, first.model.materials[i].base_color_factor) << name;
+    }
+    EXPECT_EQ(again.camera.eye, first.camera.eye) << name;
+    EXPECT_EQ(again.camera.near_plane, first.camera.near_plane) << name;
+  }
+}
+
+// Both scenes of many draws are drawn part by part on both sides alike, and the engine is framed
+// as `render` frames a model: whole, within the picture.
+class BenchManyDraws : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(BenchManyDraws, AreDrawnAsLlvmpipeDrawsThem) {
+  const SceneRun run = run_small(scene(GetParam()));
+  EXPECT_EQ(run.result.draws, scene(GetParam()).model.parts.size());
+  EXPECT_TRUE(run.result.passed) << "coverage mismatch " << run.result.comparison.coverage_mismatch
+                                 << ", colour mismatch " << run.result.comparison.colour_mismatch;
+  EXPECT_TRUE(test::images_match(run.clraster_picture, run.gl_picture, kTolerance));  // leaves the pictures
+  EXPECT_GT(coverage(run.clraster_picture), 0.1);
+  EXPECT_FALSE(touches_edges(run.clraster_picture));
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, BenchManyDraws, ::testing::Values("materials-256", "engine-glb"),
+                         [](const auto& info) {
+                           std::string name = info.param;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 TEST(BenchScenes, FillDrawsSixteenFragmentsOnEveryPixel) {
   const Image picture = draw_small(scene("fill-16"));

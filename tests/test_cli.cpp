@@ -142,7 +142,7 @@ TEST(CliInterface, BenchHelpNamesEveryOptionAndScene) {
   EXPECT_TRUE(succeeded(result));
   for (const char* option : {"--scenes", "--size", "--frames", "--json", "--device", "--memory-cap", "--tile-size",
                              "--pictures", "model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
-                             "textured-50k"}) {
+                             "textured-50k", "materials-256", "engine-glb"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
@@ -334,10 +334,11 @@ TEST(CliBench, JsonHasEachSceneWithItsTimesStagesAndVerdict) {
   const std::vector<std::pair<std::string, std::uint64_t>> expected{{"fill-16", 32}, {"model-50k", 50000}};
   for (std::size_t i = 0; i < expected.size(); ++i) {
     const json& scene = scenes[i];
-    ASSERT_TRUE(has_keys(scene, {"name", "triangles", "clraster_ms", "llvmpipe_ms", "ratio", "stage_ms",
+    ASSERT_TRUE(has_keys(scene, {"name", "triangles", "draws", "clraster_ms", "llvmpipe_ms", "ratio", "stage_ms",
                                  "first_frame_ms", "peak_memory_bytes", "passed"}));
     EXPECT_EQ(scene["name"], expected[i].first);
     EXPECT_EQ(scene["triangles"], expected[i].second);
+    EXPECT_EQ(scene["draws"], 1);
     EXPECT_EQ(scene["passed"], true) << scene;
     EXPECT_GT(scene["clraster_ms"].get<double>(), 0);
     EXPECT_GT(scene["llvmpipe_ms"].get<double>(), 0);
@@ -359,7 +360,7 @@ TEST(CliBench, TableHasARowPerSceneAndWritesThePictures) {
   const CliResult result =
       run_cli({"bench", "--scenes", "fill-16", "--size", "32x16", "--frames", "1", "--pictures", pictures.string()});
   ASSERT_TRUE(succeeded(result));
-  EXPECT_TRUE(mentions(result.out, "\nfill-16             32 32x16 "));
+  EXPECT_TRUE(mentions(result.out, "\nfill-16               32     1 32x16 "));
   EXPECT_TRUE(mentions(result.out, "geometric mean of the ratios (clraster / llvmpipe): "));
   const Image ours = io::load_png((pictures / "fill-16-clraster.png").string());
   EXPECT_TRUE(images_match(ours, io::load_png((pictures / "fill-16-llvmpipe.png").string()), kExact));

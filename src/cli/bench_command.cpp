@@ -11,8 +11,8 @@
 namespace clraster::cli {
 
 int bench(const BenchOptions& options) {
-  // The scene names and the picture files are checked before the first scene is built, so that a
-  // long run does not end in an error it could have started with.
+  // The scene names, their model files and the picture files are checked before the first scene is
+  // built, so that a long run does not end in an error it could have started with.
   const std::vector<std::string> scenes = bench::parse_scene_list(options.scenes);
   const auto picture_path = [&](const std::string& scene, const char* kind) {
     return (std::filesystem::path(options.pictures) / (scene + "-" + kind + ".png")).string();

@@ -150,8 +150,8 @@ int main(int argc, char** argv) {
   std::string bench_size = "1920x1080";
   std::size_t bench_memory_cap_mib = kDefaultMemoryCap >> 20;
   CLI::App* bench = app.add_subcommand(
-      "bench", "Time fixed procedural scenes drawn by clraster and by Mesa's OpenGL (llvmpipe) in turn, and check "
-               "that both draw the same pictures");
+      "bench", "Time fixed scenes (procedural meshes, and assimp's engine model) drawn by clraster and by Mesa's "
+               "OpenGL (llvmpipe) in turn, and check that both draw the same pictures");
   bench->add_option("--scenes", bench_options.scenes,
                     "Comma-separated scenes to run, of " + bench::scene_names_text() + " (default: all)")
       ->option_text("NAME,...");

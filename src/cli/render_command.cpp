@@ -90,21 +90,6 @@ struct Rendering {
   nlohmann::json stats;
 };
 
-// The statistics of several draws of one frame as those of one: counts add up, the peak is the
-// context's so far.
-void accumulate(DrawStats& total, const DrawStats& draw) {
-  total.triangles += draw.triangles;
-  total.triangles_dropped += draw.triangles_dropped;
-  total.chunks += draw.chunks;
-  total.tile_triangle_pairs += draw.tile_triangle_pairs;
-  total.peak_memory_bytes = std::max(total.peak_memory_bytes, draw.peak_memory_bytes);
-  total.stage_times.vertex_ms += draw.stage_times.vertex_ms;
-  total.stage_times.setup_ms += draw.stage_times.setup_ms;
-  total.stage_times.binning_ms += draw.stage_times.binning_ms;
-  total.stage_times.raster_ms += draw.stage_times.raster_ms;
-  total.stage_times.other_ms += draw.stage_times.other_ms;
-}
-
 // Compiles `program`. PoCL lets clang print its summary of a build's diagnostics ("1 error
 // generated.") straight to the process's stderr, without the diagnostics themselves (which a
 // BuildError carries, and which the build log keeps for warnings): such lines are held back from
