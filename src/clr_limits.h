@@ -115,6 +115,8 @@
 /* ---- Memory budget -----------------------------------------------------------------------------
  * Intermediate buffers are sized from the context's memory cap (ContextOptions::memory_cap). */
 #define CLR_MAX_CHUNK_PRIMITIVES (1u << 20) /* primitives per geometry chunk at most */
+#define CLR_MAX_PASS_DRAWS 4096              /* draws (instances) one raster pass takes at most */
+#define CLR_INDEX_RANGE_CACHE_ENTRIES 4096   /* ranges an index buffer remembers the bounds of */
 #define CLR_OVERFLOW_DIVISOR 8               /* room for clipped triangles: 1/8 of a chunk's primitives */
 /* An indexed draw shades every vertex once when its transformed vertices take at most 1/2 of the
  * cap; else each chunk shades its stream positions, which for a mesh runs the vertex program about

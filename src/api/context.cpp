@@ -111,7 +111,7 @@ const cl::Program& ContextState::core_program() {
 pipeline::Pipeline& ContextState::get_pipeline() {
   if (!pipeline) {
     pipeline = std::make_unique<pipeline::Pipeline>(context, queue, core_program(), options.memory_cap,
-                                                    device.info.buffer_bytes);
+                                                    device.info.buffer_bytes, device.info.constant_buffer_bytes);
   }
   return *pipeline;
 }

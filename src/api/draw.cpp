@@ -153,75 +153,96 @@ void resolve_bindings(const Bindings::Impl& bindings, const Program::Impl& progr
   }
 }
 
+// Resolves `call`'s public objects into what the pipeline reads, checking each against the program.
+pipeline::DrawSource resolve_draw(ContextState& state, const Framebuffer::Impl& framebuffer, const DrawCall& call) {
+  if (call.program == nullptr) check_shading(call.state);
+  const Program& program = call.program != nullptr ? *call.program : state.builtin_program(call.state.shading);
+  Program::Impl& compiled = program.impl();
+  check_same_context(state, compiled.state, "program " + compiled.file_name);
+  std::optional<Bindings> builtin;
+  const Bindings* bindings = call.bindings;
+  if (call.program == nullptr) {
+    if (bindings != nullptr) throw InvalidArgument("a draw with bindings needs the program they are for");
+    bindings = &builtin.emplace(builtin_bindings(program, call.state));
+  }
+  const ProgramInterface& in = compiled.parsed.interface;
+  const bool declares_resources = !in.uniforms.empty() || !in.textures.empty() || !in.buffers.empty();
+  if (bindings == nullptr && declares_resources) {
+    throw InvalidArgument("program " + compiled.file_name + " declares uniforms, textures or buffers but the draw has no bindings");
+  }
+  if (bindings != nullptr && bindings->impl().program != &compiled) {
+    throw InvalidArgument("the draw's bindings were made for another program than " + compiled.file_name);
+  }
+
+  pipeline::DrawSource source;
+  source.program = &compiled.parsed;
+  if (!compiled.stages) {
+    compiled.stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort(),
+                                                               state.vertex_lanes(), compiled.tile_size);
+  }
+  source.stages = compiled.stages.get();
+  resolve_attributes(call, compiled, state, source);
+  if (bindings != nullptr) resolve_bindings(bindings->impl(), compiled, source);
+  for (std::size_t k = 0; k < in.outputs.size() && k < framebuffer.colors.size(); ++k) {
+    const FormatInfo& format = format_info(framebuffer.colors[k]->format());
+    const std::string& type = in.outputs[k].type;
+    const bool matches = type == "float4" ? !format.integer : type == "int4" ? format.integer && format.is_signed
+                                                                              : format.integer && !format.is_signed;
+    if (!matches) {
+      throw InvalidArgument("output '" + in.outputs[k].name + "' of program " + compiled.file_name + " is " + type +
+                            " but colour attachment " + std::to_string(k) + " is " + format.name);
+    }
+  }
+  if (call.indices != nullptr) {
+    IndexBuffer::Impl& indices = call.indices->impl();
+    check_same_context(state, indices.state, "index buffer");
+    source.indices = indices.indices;
+    source.index_size = indices.index_size;
+    source.index_cache = &indices.range_cache;
+    source.index_count = indices.count;
+  }
+  source.instance_count = call.instance_count;
+  return source;
+}
+
+pipeline::RenderTarget render_target(const Framebuffer::Impl& framebuffer) {
+  pipeline::RenderTarget target;
+  target.width = framebuffer.width;
+  target.height = framebuffer.height;
+  for (Texture* color : framebuffer.colors) {
+    target.colors.push_back(color->impl().data);
+    target.formats.push_back(static_cast<int>(color->format()));
+    target.color_clears.push_back(&color->impl().pending_clear);
+  }
+  if (framebuffer.depth_stencil != nullptr) {
+    const Texture::Impl& depth = framebuffer.depth_stencil->impl();
+    target.depth_stencil = depth.data;
+    target.depth_clear = &depth.pending_clear;
+    target.has_stencil = format_info(depth.format).stencil;
+    target.stencil_offset = depth.describe().stencil_offset;
+  }
+  return target;
+}
+
 }  // namespace
 
-DrawStats Framebuffer::draw(const DrawCall& call) {
+DrawStats Framebuffer::draw(const DrawCall& call) { return draw(std::span<const DrawCall>(&call, 1)); }
+
+DrawStats Framebuffer::draw(std::span<const DrawCall> calls) {
   ContextState& state = *impl_->state;
   return translate_cl_errors([&] {
-    if (call.program == nullptr) check_shading(call.state);
-    const Program& program = call.program != nullptr ? *call.program : state.builtin_program(call.state.shading);
-    Program::Impl& compiled = program.impl();
-    check_same_context(state, compiled.state, "program " + compiled.file_name);
-    std::optional<Bindings> builtin;
-    const Bindings* bindings = call.bindings;
-    if (call.program == nullptr) {
-      if (bindings != nullptr) throw InvalidArgument("a draw with bindings needs the program they are for");
-      bindings = &builtin.emplace(builtin_bindings(program, call.state));
+    const pipeline::RenderTarget target = render_target(*impl_);
+    pipeline::Pipeline& pipeline = state.get_pipeline();
+    // Every draw is checked before any renders.
+    std::vector<pipeline::DrawSource> sources;
+    sources.reserve(calls.size());  // the frame's draws point into it
+    std::vector<pipeline::FrameDraw> draws;
+    draws.reserve(calls.size());
+    for (const DrawCall& call : calls) {
+      sources.push_back(resolve_draw(state, *impl_, call));
+      draws.push_back(pipeline.prepare(target, sources.back(), call.first, call.count, call.state));
     }
-    const ProgramInterface& in = compiled.parsed.interface;
-    const bool declares_resources = !in.uniforms.empty() || !in.textures.empty() || !in.buffers.empty();
-    if (bindings == nullptr && declares_resources) {
-      throw InvalidArgument("program " + compiled.file_name + " declares uniforms, textures or buffers but the draw has no bindings");
-    }
-    if (bindings != nullptr && bindings->impl().program != &compiled) {
-      throw InvalidArgument("the draw's bindings were made for another program than " + compiled.file_name);
-    }
-
-    pipeline::DrawSource source;
-    source.program = &compiled.parsed;
-    if (!compiled.stages) {
-      compiled.stages = std::make_unique<pipeline::ProgramStages>(compiled.program, state.get_pipeline().sort(),
-                                                                 state.vertex_lanes(), compiled.tile_size);
-    }
-    source.stages = compiled.stages.get();
-    resolve_attributes(call, compiled, state, source);
-    if (bindings != nullptr) resolve_bindings(bindings->impl(), compiled, source);
-    for (std::size_t k = 0; k < in.outputs.size() && k < impl_->colors.size(); ++k) {
-      const FormatInfo& format = format_info(impl_->colors[k]->format());
-      const std::string& type = in.outputs[k].type;
-      const bool matches = type == "float4" ? !format.integer : type == "int4" ? format.integer && format.is_signed
-                                                                                : format.integer && !format.is_signed;
-      if (!matches) {
-        throw InvalidArgument("output '" + in.outputs[k].name + "' of program " + compiled.file_name + " is " + type +
-                              " but colour attachment " + std::to_string(k) + " is " + format.name);
-      }
-    }
-    if (call.indices != nullptr) {
-      IndexBuffer::Impl& indices = call.indices->impl();
-      check_same_context(state, indices.state, "index buffer");
-      source.indices = indices.indices;
-      source.index_size = indices.index_size;
-      source.index_cache = &indices.range_cache;
-      source.index_count = indices.count;
-    }
-    source.instance_count = call.instance_count;
-
-    pipeline::RenderTarget target;
-    target.width = impl_->width;
-    target.height = impl_->height;
-    for (Texture* color : impl_->colors) {
-      target.colors.push_back(color->impl().data);
-      target.formats.push_back(static_cast<int>(color->format()));
-      target.color_clears.push_back(&color->impl().pending_clear);
-    }
-    if (impl_->depth_stencil != nullptr) {
-      const Texture::Impl& depth = impl_->depth_stencil->impl();
-      target.depth_stencil = depth.data;
-      target.depth_clear = &depth.pending_clear;
-      target.has_stencil = format_info(depth.format).stencil;
-      target.stencil_offset = depth.describe().stencil_offset;
-    }
-    return state.get_pipeline().draw(target, source, call.first, call.count, call.state);
+    return pipeline.render(target, draws);
   });
 }
 

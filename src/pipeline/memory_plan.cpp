@@ -19,11 +19,12 @@ std::size_t& at(resources::ScratchSizes& sizes, Scratch id) { return sizes[stati
 resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::uint64_t chunk, std::uint64_t overflow,
                                      std::uint64_t pairs) {
   resources::ScratchSizes b{};
-  at(b, Scratch::ShadedVertices) =
-      (shade_all ? in.vertex_count : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count) *
-      in.shaded_vertex_bytes;
-  if (shade_all) {  // block culling (clr_limits.h)
-    at(b, Scratch::GroupCodes) = code_groups(in.vertex_count) * sizeof(cl_uint);
+  const std::uint64_t slots = in.pass        ? pass_slots(chunk)
+                              : shade_all    ? in.vertex_count
+                                             : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count;
+  at(b, Scratch::ShadedVertices) = slots * in.shaded_vertex_bytes;
+  if (shade_all || in.pass) {  // block culling (clr_limits.h)
+    at(b, Scratch::GroupCodes) = code_groups(slots) * sizeof(cl_uint);
     // A byte per block, and 4 bytes at least, as the arena allocates.
     at(b, Scratch::CulledBlocks) = std::max<std::uint64_t>(chunk_blocks(static_cast<std::uint32_t>(chunk)), 4);
   }
@@ -71,7 +72,7 @@ StreamRange stream_range(int topology, std::uint32_t first_primitive, std::uint3
 MemoryPlan plan_memory(const PlanInput& in) {
   MemoryPlan plan;
   const std::uint64_t all_vertices_bytes = in.vertex_count * in.shaded_vertex_bytes;
-  plan.shade_all_vertices = in.indexed && all_vertices_bytes <= in.memory_cap / CLR_SHADE_ALL_CAP_DIVISOR &&
+  plan.shade_all_vertices = !in.pass && in.indexed && all_vertices_bytes <= in.memory_cap / CLR_SHADE_ALL_CAP_DIVISOR &&
                             all_vertices_bytes <= in.buffer_bytes;
   // Room for the triangles of one primitive at least, however it is clipped.
   const auto overflow_for = [](std::uint64_t chunk) {

@@ -22,6 +22,9 @@ struct PlanInput {
   std::uint32_t tile_count = 0;
   std::size_t shaded_vertex_bytes = 0;   // of the program: a clip position, its window part and varyings
   std::size_t setup_triangle_bytes = 0;  // of the program: a SetupTriangle with its varyings
+  // A pass of several draws (Pipeline::render): each draw's vertices in slots of its own, at most a
+  // list's stream positions for the chunk (pass_slots), with block culling for any of them.
+  bool pass = false;
 };
 
 struct MemoryPlan {
@@ -40,6 +43,10 @@ inline std::uint64_t code_groups(std::uint64_t vertices) {
   return cl_host::divide_round_up(vertices, CLR_CODE_GROUP_SLOTS);
 }
 inline std::uint32_t chunk_blocks(std::uint32_t primitives) { return primitives / CLR_CULL_BLOCK_PRIMITIVES + 2; }
+// The vertex slots of a pass of `primitives` primitives: a list's stream positions, in whole groups.
+inline std::uint64_t pass_slots(std::uint64_t primitives) {
+  return code_groups(3 * primitives) * CLR_CODE_GROUP_SLOTS;
+}
 
 // The plan with the largest chunks that fit the cap, each buffer within buffer_bytes. Throws
 // InvalidArgument when they cannot hold even one primitive together with the most bin pairs one

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstring>
+#include <optional>
 #include <string>
 
 namespace clraster::pipeline {
@@ -55,63 +57,87 @@ void mark_clears_written(const RenderTarget& target, std::uint32_t clears) {
   if (clears & CLR_CLEAR_STENCIL) target.depth_clear->stencil = false;
 }
 
+// The state of a draw that the raster stage reads: draws sharing it can share a raster pass. What
+// only the geometry stages read (which elements, the viewport transform, culling) and the clears
+// (the pass's first draw carries them) may differ.
+DrawUniforms raster_state(DrawUniforms u) {
+  std::fill(std::begin(u.viewport_scale), std::end(u.viewport_scale), 0.0f);
+  std::fill(std::begin(u.viewport_offset), std::end(u.viewport_offset), 0.0f);
+  std::fill(std::begin(u.guard_min), std::end(u.guard_min), 0.0f);
+  std::fill(std::begin(u.guard_max), std::end(u.guard_max), 0.0f);
+  u.topology = u.index_size = u.cull = u.front_face_ccw = 0;
+  u.first = u.instance = u.batch_draw = 0;
+  for (auto& color : u.clear_color) std::fill(std::begin(color), std::end(color), 0u);
+  u.clear_depth = 0.0f;
+  u.clear_stencil = 0;
+  return u;
+}
+
+bool same_buffers(const std::vector<cl::Buffer>& a, const std::vector<cl::Buffer>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](const cl::Buffer& x, const cl::Buffer& y) { return x() == y(); });
+}
+
+template <typename T>
+bool same_bytes(const T& a, const T& b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
 }  // namespace
 
 Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, std::size_t memory_cap,
-                   std::size_t buffer_bytes)
+                   std::size_t buffer_bytes, std::size_t constant_bytes)
     : context_(context),
       queue_(queue),
       memory_cap_(memory_cap),
       buffer_bytes_(buffer_bytes),
+      constant_bytes_(constant_bytes),
       placeholder_(context, CL_MEM_READ_WRITE, 16),
-      uniforms_(context, CL_MEM_READ_ONLY, sizeof(DrawUniforms)),
       counters_(context, CL_MEM_READ_WRITE, CLR_COUNTER_COUNT * sizeof(cl_uint)),
       scratch_(context),
-      index_max_(core, "index_max"),
+      index_bounds_(core, "index_bounds"),
       block_index_ranges_(core, "block_index_ranges"),
       scan_(core),
       sort_(core, scan_) {}
 
-void Pipeline::upload(cl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes) {
-  const std::size_t size = std::max<std::size_t>(bytes, 16);  // OpenCL has no empty buffers
-  if (size > capacity) {
-    buffer = cl::Buffer(context_, CL_MEM_READ_ONLY, size);
-    capacity = size;
-  }
-  // Blocking: the caller's data need not outlive the call.
-  if (bytes > 0) queue_.get().enqueueWriteBuffer(buffer, CL_TRUE, 0, bytes, data, nullptr, queue_.event());
+cl::Buffer Pipeline::table(const void* data, std::size_t bytes) const {
+  if (bytes == 0) return cl::Buffer(context_, CL_MEM_READ_ONLY, 16);
+  return cl::Buffer(context_, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<void*>(data));
 }
 
-std::uint32_t Pipeline::largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count) {
+IndexRangeCache::Bounds Pipeline::index_bounds(const DrawSource& source, std::uint32_t first, std::uint32_t count) {
   IndexRangeCache& cache = *source.index_cache;
-  if (cache.valid && cache.first == first && cache.count == count) return cache.largest;
-  cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint));
-  cl_host::set_args(index_max_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
-  cl_host::enqueue_blocks(queue_, index_max_, count, CLR_SCAN_BLOCK, cl_host::compiled_group_size(index_max_));
-  cache.valid = true;
-  cache.first = first;
-  cache.count = count;
-  cache.largest = read_uint(queue_, counters_, CLR_COUNTER_MAX_INDEX);
-  return cache.largest;
+  const auto found = cache.bounds.find({first, count});
+  if (found != cache.bounds.end()) return found->second;
+  const std::array<cl_uint, 2> start{~cl_uint{0}, 0};  // smallest, largest
+  queue_.get().enqueueWriteBuffer(counters_, CL_TRUE, CLR_COUNTER_MIN_INDEX * sizeof(cl_uint), sizeof(cl_uint),
+                                  &start[0], nullptr, queue_.event());
+  queue_.get().enqueueWriteBuffer(counters_, CL_TRUE, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint),
+                                  &start[1], nullptr, queue_.event());
+  cl_host::set_args(index_bounds_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
+  cl_host::enqueue_blocks(queue_, index_bounds_, count, CLR_SCAN_BLOCK, cl_host::compiled_group_size(index_bounds_));
+  std::array<std::uint32_t, CLR_COUNTER_COUNT> counters{};
+  cl_host::read_uints(queue_, counters_, 0, counters);
+  if (cache.bounds.size() >= CLR_INDEX_RANGE_CACHE_ENTRIES) cache.bounds.clear();
+  const IndexRangeCache::Bounds bounds{counters[CLR_COUNTER_MIN_INDEX], counters[CLR_COUNTER_MAX_INDEX]};
+  cache.bounds[{first, count}] = bounds;
+  return bounds;
 }
 
-const cl::Buffer& Pipeline::block_index_ranges(const DrawSource& source, std::uint32_t first, std::uint32_t count,
-                                               int topology, std::uint32_t primitives) {
+const cl::Buffer& Pipeline::block_index_ranges(const FrameDraw& draw) {
+  const DrawSource& source = *draw.source;
   IndexRangeCache& cache = *source.index_cache;
-  if (cache.blocks_valid && cache.blocks_first == first && cache.blocks_count == count &&
-      cache.blocks_topology == topology) {
-    return cache.block_ranges;
-  }
-  const std::size_t blocks = cl_host::divide_round_up(primitives, CLR_CULL_BLOCK_PRIMITIVES);
-  cache.block_ranges = cl::Buffer(context_, CL_MEM_READ_WRITE, blocks * sizeof(cl_uint4));
-  cl_host::set_args(block_index_ranges_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{primitives},
-                    cl_int{topology}, cache.block_ranges);
+  const auto key = std::make_tuple(draw.first, draw.used_elements, draw.topology);
+  const auto found = cache.block_ranges.find(key);
+  if (found != cache.block_ranges.end()) return found->second;
+  if (cache.block_ranges.size() >= CLR_INDEX_RANGE_CACHE_ENTRIES) cache.block_ranges.clear();
+  const std::size_t blocks = cl_host::divide_round_up(draw.primitives, CLR_CULL_BLOCK_PRIMITIVES);
+  cl::Buffer& ranges = cache.block_ranges[key];
+  ranges = cl::Buffer(context_, CL_MEM_READ_WRITE, blocks * sizeof(cl_uint4));
+  cl_host::set_args(block_index_ranges_, source.indices, cl_int{source.index_size}, cl_uint{draw.first},
+                    cl_uint{draw.primitives}, cl_int{draw.topology}, ranges);
   cl_host::enqueue_items(queue_, block_index_ranges_, blocks, CLR_ITEM_GROUP_SIZE);
-  cache.blocks_valid = true;
-  cache.blocks_first = first;
-  cache.blocks_count = count;
-  cache.blocks_topology = topology;
-  return cache.block_ranges;
+  return ranges;
 }
 
 std::uint32_t Pipeline::read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count,
@@ -131,8 +157,8 @@ std::uint32_t Pipeline::last_offset_within(const cl::Buffer& offsets, std::uint3
   return lo;
 }
 
-DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
-                         std::uint32_t count, const DrawState& state) {
+FrameDraw Pipeline::prepare(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
+                            std::uint32_t count, const DrawState& state) {
   queue_.set_stage(cl_host::Stage::Other);
   const program::ParsedProgram& program = *source.program;
   const bool indexed = source.index_size != 0;
@@ -160,124 +186,364 @@ DrawStats Pipeline::draw(const RenderTarget& target, const DrawSource& source, s
                           std::to_string(source.instance_limit));
   }
 
-  DrawUniforms uniforms = make_uniforms(state, target, program);
-  const int topology = uniforms.topology;
-  DrawStats stats;
-  const std::uint32_t primitives = primitives_of(topology, element_count);
-  stats.triangles = std::uint64_t{primitives} * source.instance_count;
-  stats.peak_memory_bytes = scratch_.peak_bytes();
-  if (primitives == 0 || source.instance_count == 0) return stats;
+  FrameDraw draw;
+  draw.source = &source;
+  draw.uniforms = make_uniforms(state, target, program);
+  draw.uniforms.index_size = source.index_size;
+  draw.uniforms.first = first;
+  draw.topology = draw.uniforms.topology;
+  draw.first = first;
+  draw.primitives = primitives_of(draw.topology, element_count);
+  if (draw.primitives == 0 || source.instance_count == 0) return draw;
 
   // Every vertex the draw references: checked before anything renders.
-  const auto used_elements = static_cast<std::uint32_t>(topology == CLR_TOPOLOGY_LIST ? 3ull * primitives : element_count);
-  std::uint64_t vertex_count = std::uint64_t{first} + element_count;  // non-indexed: vertices [0, first + count)
+  draw.used_elements =
+      static_cast<std::uint32_t>(draw.topology == CLR_TOPOLOGY_LIST ? 3ull * draw.primitives : element_count);
+  draw.vertex_count = std::uint64_t{first} + element_count;  // non-indexed: vertices [0, first + count)
   if (indexed) {
-    const std::uint32_t largest = largest_index(source, first, used_elements);
-    if (largest >= source.vertex_limit) {
-      throw InvalidArgument("index " + std::to_string(largest) + " is out of range: the vertex attributes hold " +
-                            std::to_string(source.vertex_limit) + " vertices");
+    const IndexRangeCache::Bounds bounds = index_bounds(source, first, draw.used_elements);
+    if (bounds.largest >= source.vertex_limit) {
+      throw InvalidArgument("index " + std::to_string(bounds.largest) +
+                            " is out of range: the vertex attributes hold " + std::to_string(source.vertex_limit) +
+                            " vertices");
     }
-    vertex_count = std::min<std::uint64_t>(source.vertex_limit, std::uint64_t{largest} + 1);
+    draw.vertex_count = std::min<std::uint64_t>(source.vertex_limit, std::uint64_t{bounds.largest} + 1);
+    draw.smallest_index = bounds.smallest;
   }
+  return draw;
+}
 
-  Frame frame;
-  frame.target = &target;
-  frame.source = &source;
-  frame.topology = topology;
-  frame.vertex_count = vertex_count;
-  const int tile_size = source.stages->tile_size;
-  frame.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size));
-  frame.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, tile_size));
-  frame.shaded_vertex_bytes = program::shaded_vertex_bytes(program);
-  frame.setup_triangle_bytes = program::setup_triangle_bytes(program);
-  frame.plan = plan_memory({memory_cap_, buffer_bytes_, vertex_count, indexed, topology, primitives,
-                            frame.tiles_x * frame.tiles_y, frame.shaded_vertex_bytes, frame.setup_triangle_bytes});
-
-  // Validated: from here on the draw renders.
-  uniforms.index_size = source.index_size;
-  uniforms.first = first;
-  frame.clears = pending_clears(target, program.interface.outputs.size(), uniforms);
+DrawStats Pipeline::render(const RenderTarget& target, const std::vector<FrameDraw>& draws) {
+  DrawStats stats;
+  dropped_ = 0;
+  // Primitives of the draws from each one on, which size the passes.
+  std::vector<std::uint64_t> remaining(draws.size() + 1, 0);
+  for (std::size_t i = draws.size(); i-- > 0;) {
+    const std::uint64_t primitives = std::uint64_t{draws[i].primitives} * draws[i].source->instance_count;
+    remaining[i] = remaining[i + 1] + primitives;
+    stats.triangles += primitives;
+  }
   cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
-  scratch_.set_capacities(frame.plan.buffer_bytes);
-  stages::ProgramResources resources;
-  upload(uniform_block_, uniform_block_bytes_, source.uniforms.data(), source.uniforms.size());
-  resources.uniform_block = uniform_block_;
-  upload(texture_descs_, texture_descs_bytes_, source.texture_descs.data(), source.texture_descs.size() * sizeof(TextureDesc));
-  resources.texture_descs = texture_descs_;
-  resources.textures = source.textures;
-  resources.buffers = source.buffers;
-  stages::DrawBuffers buffers;
-  buffers.indices = indexed ? source.indices : placeholder_;
-  buffers.uniforms = uniforms_;
-  buffers.counters = counters_;
-  buffers.resources = &resources;
-  upload(attribute_descs_, attribute_descs_bytes_, source.attributes.data(), source.attributes.size() * sizeof(AttributeDesc));
-  buffers.attribute_descs = attribute_descs_;
-  buffers.attributes = source.attribute_buffers;
-  frame.buffers = &buffers;
 
-  // Block culling (clr_limits.h), where every vertex is shaded once per draw (indexed draws only).
-  if (frame.plan.shade_all_vertices) {
-    frame.block_ranges = block_index_ranges(source, first, used_elements, topology, primitives);
-    frame.group_codes = scratch_.get(Scratch::GroupCodes, code_groups(vertex_count) * sizeof(cl_uint));
-  }
-
-  // Instances are drawn one after the other, in order, as OpenGL orders their primitives.
-  for (std::uint32_t instance = 0; instance < source.instance_count; ++instance) {
-    uniforms.instance = instance;
-    queue_.get().enqueueWriteBuffer(uniforms_, CL_TRUE, 0, sizeof uniforms, &uniforms, nullptr, queue_.event());
-    if (frame.plan.shade_all_vertices) {
-      if (source.stages->vertex.ands_group_codes()) {
-        queue_.set_stage(cl_host::Stage::Vertex);
-        cl_host::fill(queue_, frame.group_codes, ~cl_uint{0}, 0, code_groups(vertex_count) * sizeof(cl_uint));
+  std::optional<Pass> pass;
+  for (std::size_t i = 0; i < draws.size(); ++i) {
+    const FrameDraw& draw = draws[i];
+    if (draw.primitives == 0) continue;
+    for (std::uint32_t instance = 0; instance < draw.source->instance_count; ++instance) {
+      if (pass && shares_raster_pass(*pass, draw) && add_entry(*pass, draw, instance)) continue;
+      if (pass) render_pass(target, *pass, stats);
+      pass = start_pass(target, draw, remaining[i]);
+      if (!add_entry(*pass, draw, instance)) {  // too large for a pass: alone, chunk by chunk
+        pass.reset();
+        draw_chunked(target, draw, instance, draw.source->instance_count, stats);
+        break;
       }
-      source.stages->vertex.run(queue_, {&buffers, true, 0, 0, static_cast<std::uint32_t>(vertex_count),
-                                         scratch_.get(Scratch::ShadedVertices, vertex_count * frame.shaded_vertex_bytes),
-                                         frame.group_codes});
-    }
-    for (std::uint32_t begin = 0; begin < primitives;) {
-      begin += run_chunk(frame, begin, std::min(frame.plan.chunk_primitives, primitives - begin), stats);
     }
   }
+  if (pass) render_pass(target, *pass, stats);
 
-  stats.triangles_dropped = read_uint(queue_, counters_, CLR_COUNTER_DROPPED);
+  stats.triangles_dropped = dropped_;
   stats.peak_memory_bytes = scratch_.peak_bytes();
   stats.stage_times = queue_.collect();
   return stats;
 }
 
-std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats) {
-  // Vertex stage: done once for the draw, or this chunk's stream positions.
-  SlotMap slots{1, 0, 0};
-  cl::Buffer shaded;
-  if (frame.plan.shade_all_vertices) {
-    shaded = scratch_.get(Scratch::ShadedVertices, frame.vertex_count * frame.shaded_vertex_bytes);
+void Pipeline::take_dropped(std::uint32_t counted) {
+  if (counted == 0) return;
+  dropped_ += counted;
+  cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
+}
+
+Pipeline::Pass Pipeline::start_pass(const RenderTarget& target, const FrameDraw& draw, std::uint64_t primitives) const {
+  const program::ParsedProgram& program = *draw.source->program;
+  const int tile_size = draw.source->stages->tile_size;
+  const auto tiles = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size) *
+                                                cl_host::divide_round_up(target.height, tile_size));
+  Pass pass;
+  PlanInput input;
+  input.memory_cap = memory_cap_;
+  input.buffer_bytes = buffer_bytes_;
+  input.topology = CLR_TOPOLOGY_LIST;
+  input.primitive_count = static_cast<std::uint32_t>(std::min<std::uint64_t>(primitives, CLR_MAX_CHUNK_PRIMITIVES));
+  input.tile_count = tiles;
+  input.shaded_vertex_bytes = program::shaded_vertex_bytes(program);
+  input.setup_triangle_bytes = program::setup_triangle_bytes(program);
+  input.pass = true;
+  pass.plan = plan_memory(input);
+  pass.slot_capacity = static_cast<std::uint32_t>(pass_slots(pass.plan.chunk_primitives));
+  return pass;
+}
+
+bool Pipeline::shares_raster_pass(const Pass& pass, const FrameDraw& draw) const {
+  const DrawSource& a = *pass.entries.front().draw->source;
+  const DrawSource& b = *draw.source;
+  if (a.stages != b.stages || !same_buffers(a.textures, b.textures) || !same_buffers(a.buffers, b.buffers)) return false;
+  if (a.texture_descs.size() != b.texture_descs.size() ||
+      std::memcmp(a.texture_descs.data(), b.texture_descs.data(), a.texture_descs.size() * sizeof(TextureDesc)) != 0) {
+    return false;
+  }
+  return same_bytes(raster_state(pass.entries.front().draw->uniforms), raster_state(draw.uniforms));
+}
+
+bool Pipeline::add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instance) const {
+  // A pass's tables are constant memory: a quarter of it for each of the draw and uniform tables.
+  const std::size_t entry_bytes = std::max<std::size_t>(
+      {sizeof(DrawUniforms), draw.source->uniforms.size(), draw.source->attributes.size() * sizeof(AttributeDesc)});
+  const std::size_t max_entries =
+      std::clamp<std::size_t>(constant_bytes_ / 4 / std::max<std::size_t>(entry_bytes, 1), 1, CLR_MAX_PASS_DRAWS);
+  if (pass.entries.size() >= max_entries || draw.primitives > pass.plan.chunk_primitives - pass.primitives) {
+    return false;
+  }
+  PassEntry entry;
+  entry.draw = &draw;
+  entry.instance = instance;
+  entry.record_base = pass.primitives;
+  entry.slots.slot_base = pass.slots;
+  // Indexed draws shade their index range once when it is no larger than their stream positions.
+  const StreamRange stream = stream_range(draw.topology, 0, draw.primitives);
+  const std::uint64_t range = draw.vertex_count - draw.smallest_index;
+  if (draw.indexed() && range <= stream.slot_count) {
+    entry.slots.shade_all = 1;
+    entry.slots.origin = draw.smallest_index;
+    entry.slot_count = static_cast<std::uint32_t>(range);
   } else {
-    const StreamRange range = stream_range(frame.topology, begin, count);
-    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * frame.shaded_vertex_bytes);
-    frame.source->stages->vertex.run(
-        queue_, {frame.buffers, false, range.begin, range.count, range.slot_count, shaded, placeholder_});
-    slots = {0, range.begin, range.count};
+    entry.slots.origin = stream.begin;
+    entry.slots.fan_centre = stream.count;
+    entry.main_count = stream.count;
+    entry.slot_count = stream.slot_count;
+  }
+  // Whole groups of slots each (block culling).
+  const std::uint64_t slots = code_groups(entry.slot_count) * CLR_CODE_GROUP_SLOTS;
+  if (slots > pass.slot_capacity - pass.slots) return false;
+  pass.slots += static_cast<std::uint32_t>(slots);
+  pass.primitives += draw.primitives;
+  pass.culls_blocks = pass.culls_blocks || entry.slots.shade_all;
+  pass.entries.push_back(entry);
+  return true;
+}
+
+void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawStats& stats) {
+  const FrameDraw& lead = *pass.entries.front().draw;
+  const DrawSource& lead_source = *lead.source;
+  ProgramStages& stages = *lead_source.stages;
+  const std::size_t entries = pass.entries.size();
+
+  // The pass's tables: each entry's DrawUniforms, uniform block and attribute descriptions.
+  std::vector<DrawUniforms> draw_table(entries);
+  const std::size_t uniform_stride = lead_source.uniforms.size();
+  const std::size_t attribute_count = lead_source.attributes.size();
+  std::vector<std::byte> uniform_table(entries * uniform_stride);
+  std::vector<AttributeDesc> attribute_table(entries * attribute_count);
+  for (std::size_t k = 0; k < entries; ++k) {
+    const PassEntry& entry = pass.entries[k];
+    draw_table[k] = entry.draw->uniforms;
+    draw_table[k].instance = entry.instance;
+    draw_table[k].batch_draw = static_cast<cl_uint>(k);
+    std::copy(entry.draw->source->uniforms.begin(), entry.draw->source->uniforms.end(),
+              uniform_table.begin() + static_cast<std::ptrdiff_t>(k * uniform_stride));
+    std::copy(entry.draw->source->attributes.begin(), entry.draw->source->attributes.end(),
+              attribute_table.begin() + static_cast<std::ptrdiff_t>(k * attribute_count));
+  }
+  const std::uint32_t clears = pending_clears(target, lead_source.program->interface.outputs.size(), draw_table[0]);
+  const cl::Buffer draws = table(draw_table.data(), entries * sizeof(DrawUniforms));
+  const cl::Buffer attribute_descs = table(attribute_table.data(), attribute_table.size() * sizeof(AttributeDesc));
+  stages::ProgramResources resources;
+  resources.uniform_block = table(uniform_table.data(), uniform_table.size());
+  resources.texture_descs =
+      table(lead_source.texture_descs.data(), lead_source.texture_descs.size() * sizeof(TextureDesc));
+  resources.textures = lead_source.textures;
+  resources.buffers = lead_source.buffers;
+
+  const std::size_t shaded_vertex_bytes = program::shaded_vertex_bytes(*lead_source.program);
+  const std::size_t setup_triangle_bytes = program::setup_triangle_bytes(*lead_source.program);
+  scratch_.set_capacities(pass.plan.buffer_bytes);
+  const std::uint32_t count = pass.primitives;
+  const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
+  const cl::Buffer shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{pass.slots} * shaded_vertex_bytes);
+  const cl::Buffer group_codes =
+      pass.culls_blocks ? scratch_.get(Scratch::GroupCodes, code_groups(pass.slots) * sizeof(cl_uint)) : placeholder_;
+  const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * setup_triangle_bytes);
+  const cl::Buffer bin_boxes = scratch_.get(Scratch::BinBoxes, std::size_t{count} * sizeof(cl_uint2));
+  const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, count_bytes);
+  const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
+
+  // Each entry through the vertex stage and set-up, into its own slots and records.
+  std::vector<stages::DrawBuffers> buffers(entries);
+  for (std::size_t k = 0; k < entries; ++k) {
+    const PassEntry& entry = pass.entries[k];
+    const FrameDraw& draw = *entry.draw;
+    stages::DrawBuffers& b = buffers[k];
+    b.indices = draw.indexed() ? draw.source->indices : placeholder_;
+    b.uniforms = draws;
+    b.draw = static_cast<std::uint32_t>(k);
+    b.counters = counters_;
+    b.resources = &resources;
+    b.attribute_descs = attribute_descs;
+    b.attributes = draw.source->attribute_buffers;
+    const bool shade_all = entry.slots.shade_all != 0;
+    if (shade_all && stages.vertex.ands_group_codes()) {
+      queue_.set_stage(cl_host::Stage::Vertex);
+      cl_host::fill(queue_, group_codes, ~cl_uint{0}, entry.slots.slot_base / CLR_CODE_GROUP_SLOTS * sizeof(cl_uint),
+                    code_groups(entry.slot_count) * sizeof(cl_uint));
+    }
+    stages.vertex.run(queue_, {&b, entry.slots, entry.main_count, entry.slot_count, shaded, group_codes});
+    cl::Buffer culled_blocks = placeholder_;
+    if (shade_all) {
+      const std::uint32_t block_count = chunk_blocks(draw.primitives) - 2 + (draw.primitives % CLR_CULL_BLOCK_PRIMITIVES != 0);
+      culled_blocks = scratch_.get(Scratch::CulledBlocks, block_count);
+      stages.setup.run_cull(queue_, {0, block_count, block_index_ranges(draw),
+                                     entry.slots.slot_base - entry.slots.origin, group_codes, culled_blocks});
+    }
+    stages.setup.run(queue_, {&b, entry.slots, shaded, 0, draw.primitives, shade_all, culled_blocks, entry.record_base,
+                              records, bin_boxes, pair_offsets, clipped_offsets});
+  }
+
+  // Where each primitive's bin pairs go, and, in the same read, whether any was clipped or dropped.
+  const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
+  scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
+  std::array<std::uint32_t, CLR_COUNTER_COUNT> counters{};
+  cl_host::read_uints(queue_, counters_, 0, counters);
+  const std::uint32_t pairs = counters[CLR_COUNTER_SCAN_TOTAL];
+  std::uint32_t clipped = 0;
+  if (counters[CLR_COUNTER_CLIPPED] != 0) {
+    cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_CLIPPED * sizeof(cl_uint), sizeof(cl_uint));
+    scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
+    clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
+  }
+  if (clipped > pass.plan.overflow_capacity || pairs == kSaturated) {
+    // More clipping than the plan holds, or more bin pairs than 32-bit offsets count (rare): the
+    // pass's geometry is dropped, and its entries rendered alone, chunk by chunk, which split where
+    // they must.
+    cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
+    for (std::size_t k = 0; k < entries;) {
+      std::size_t end = k + 1;
+      while (end < entries && pass.entries[end].draw == pass.entries[k].draw) ++end;
+      draw_chunked(target, *pass.entries[k].draw, pass.entries[k].instance, pass.entries[end - 1].instance + 1, stats);
+      k = end;
+    }
+    return;
+  }
+  take_dropped(counters[CLR_COUNTER_DROPPED]);
+  const cl::Buffer overflow =
+      scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * setup_triangle_bytes);
+  if (clipped > 0) {
+    for (std::size_t k = 0; k < entries; ++k) {
+      const PassEntry& entry = pass.entries[k];
+      stages.setup.run_clipped(queue_, {&buffers[k], entry.slots, shaded, 0, entry.draw->primitives,
+                                        entry.record_base, clipped_offsets, overflow});
+    }
+  }
+  ++stats.chunks;
+  stats.tile_triangle_pairs += pairs;
+  RasterInputs raster;
+  raster.target = &target;
+  raster.stages = &stages;
+  raster.outputs = lead_source.program->interface.outputs.size();
+  raster.draws = draws;
+  raster.resources = &resources;
+  raster.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, stages.tile_size));
+  raster.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, stages.tile_size));
+  raster.pair_capacity = pass.plan.pair_capacity;
+  raster.clears = clears;
+  if (pairs > 0) bin_and_rasterize(raster, {records, bin_boxes, overflow, clipped_offsets, pair_offsets}, count, pairs);
+}
+
+void Pipeline::draw_chunked(const RenderTarget& target, const FrameDraw& draw, std::uint32_t instance_begin,
+                            std::uint32_t instance_end, DrawStats& stats) {
+  const DrawSource& source = *draw.source;
+  const program::ParsedProgram& program = *source.program;
+  ChunkedDraw chunked;
+  chunked.draw = &draw;
+  chunked.shaded_vertex_bytes = program::shaded_vertex_bytes(program);
+  chunked.setup_triangle_bytes = program::setup_triangle_bytes(program);
+  RasterInputs& raster = chunked.raster;
+  raster.target = &target;
+  raster.stages = source.stages;
+  raster.outputs = program.interface.outputs.size();
+  raster.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, source.stages->tile_size));
+  raster.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, source.stages->tile_size));
+  chunked.plan = plan_memory({memory_cap_, buffer_bytes_, draw.vertex_count, draw.indexed(), draw.topology,
+                              draw.primitives, raster.tiles_x * raster.tiles_y, chunked.shaded_vertex_bytes,
+                              chunked.setup_triangle_bytes});
+  raster.pair_capacity = chunked.plan.pair_capacity;
+  scratch_.set_capacities(chunked.plan.buffer_bytes);
+
+  DrawUniforms uniforms = draw.uniforms;
+  stages::ProgramResources resources;
+  resources.uniform_block = table(source.uniforms.data(), source.uniforms.size());
+  resources.texture_descs = table(source.texture_descs.data(), source.texture_descs.size() * sizeof(TextureDesc));
+  resources.textures = source.textures;
+  resources.buffers = source.buffers;
+  raster.resources = &resources;
+  stages::DrawBuffers buffers;
+  buffers.indices = draw.indexed() ? source.indices : placeholder_;
+  buffers.counters = counters_;
+  buffers.resources = &resources;
+  buffers.attribute_descs = table(source.attributes.data(), source.attributes.size() * sizeof(AttributeDesc));
+  buffers.attributes = source.attribute_buffers;
+  chunked.buffers = &buffers;
+
+  // Block culling (clr_limits.h), where every vertex is shaded once per draw (indexed draws only).
+  if (chunked.plan.shade_all_vertices) {
+    chunked.block_ranges = block_index_ranges(draw);
+    chunked.group_codes = scratch_.get(Scratch::GroupCodes, code_groups(draw.vertex_count) * sizeof(cl_uint));
+  }
+
+  // Instances are drawn one after the other, in order, as OpenGL orders their primitives.
+  for (std::uint32_t instance = instance_begin; instance < instance_end; ++instance) {
+    uniforms.instance = instance;
+    raster.clears = pending_clears(target, raster.outputs, uniforms);
+    buffers.uniforms = raster.draws = table(&uniforms, sizeof uniforms);
+    if (chunked.plan.shade_all_vertices) {
+      if (source.stages->vertex.ands_group_codes()) {
+        queue_.set_stage(cl_host::Stage::Vertex);
+        cl_host::fill(queue_, chunked.group_codes, ~cl_uint{0}, 0, code_groups(draw.vertex_count) * sizeof(cl_uint));
+      }
+      source.stages->vertex.run(
+          queue_, {&buffers, SlotMap{1, 0, 0, 0}, 0, static_cast<std::uint32_t>(draw.vertex_count),
+                   scratch_.get(Scratch::ShadedVertices, draw.vertex_count * chunked.shaded_vertex_bytes),
+                   chunked.group_codes});
+    }
+    for (std::uint32_t begin = 0; begin < draw.primitives;) {
+      begin += run_chunk(chunked, begin, std::min(chunked.plan.chunk_primitives, draw.primitives - begin), stats);
+    }
+  }
+  take_dropped(read_uint(queue_, counters_, CLR_COUNTER_DROPPED));
+  cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_CLIPPED * sizeof(cl_uint), sizeof(cl_uint));
+}
+
+std::uint32_t Pipeline::run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std::uint32_t count, DrawStats& stats) {
+  // Vertex stage: done once for the draw, or this chunk's stream positions.
+  SlotMap slots{1, 0, 0, 0};
+  cl::Buffer shaded;
+  const FrameDraw& draw = *chunked.draw;
+  if (chunked.plan.shade_all_vertices) {
+    shaded = scratch_.get(Scratch::ShadedVertices, draw.vertex_count * chunked.shaded_vertex_bytes);
+  } else {
+    const StreamRange range = stream_range(draw.topology, begin, count);
+    shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * chunked.shaded_vertex_bytes);
+    slots = {0, range.begin, range.count, 0};
+    draw.source->stages->vertex.run(queue_, {chunked.buffers, slots, range.count, range.slot_count, shaded, placeholder_});
   }
 
   // Set-up: a record per primitive, and for primitives that cross a clip plane the number of
   // triangles clipping leaves; bin pair counts for all of them. Both count arrays get one more
   // entry, zero (set-up writes it), whose exclusive scan is the total.
   const std::size_t count_bytes = (std::size_t{count} + 1) * sizeof(cl_uint);
-  const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * frame.setup_triangle_bytes);
+  const cl::Buffer records = scratch_.get(Scratch::Records, std::size_t{count} * chunked.setup_triangle_bytes);
   const cl::Buffer bin_boxes = scratch_.get(Scratch::BinBoxes, std::size_t{count} * sizeof(cl_uint2));
   const cl::Buffer pair_offsets = scratch_.get(Scratch::PairCounts, count_bytes);
   const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
   const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
-  ProgramStages& stages = *frame.source->stages;
+  ProgramStages& stages = *draw.source->stages;
   cl::Buffer culled_blocks = placeholder_;
-  if (frame.plan.shade_all_vertices) {  // block culling
+  if (chunked.plan.shade_all_vertices) {  // block culling
     const std::uint32_t first_block = begin / CLR_CULL_BLOCK_PRIMITIVES;
     const std::uint32_t block_count = (begin + count - 1) / CLR_CULL_BLOCK_PRIMITIVES - first_block + 1;
     culled_blocks = scratch_.get(Scratch::CulledBlocks, block_count);
-    stages.setup.run_cull(queue_, {first_block, block_count, frame.block_ranges, frame.group_codes, culled_blocks});
+    stages.setup.run_cull(queue_, {first_block, block_count, chunked.block_ranges, 0, chunked.group_codes, culled_blocks});
   }
-  stages.setup.run(queue_, {frame.buffers, slots, shaded, begin, count, frame.plan.shade_all_vertices, culled_blocks,
+  stages.setup.run(queue_, {chunked.buffers, slots, shaded, begin, count, chunked.plan.shade_all_vertices, culled_blocks, 0,
                             records, bin_boxes, pair_offsets, clipped_offsets});
 
   // Where each primitive's bin pairs go, and, in the same read, whether any primitive was clipped.
@@ -289,20 +555,20 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   // Clipped primitives (rare, so only scanned when the draw's count of them moved): where their
   // triangles go in the overflow records.
   std::uint32_t clipped = 0;
-  if (counters[CLR_COUNTER_CLIPPED] != frame.clipped_primitives) {
-    frame.clipped_primitives = counters[CLR_COUNTER_CLIPPED];
+  if (counters[CLR_COUNTER_CLIPPED] != chunked.clipped_primitives) {
+    chunked.clipped_primitives = counters[CLR_COUNTER_CLIPPED];
     scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
     clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
-    if (clipped > frame.plan.overflow_capacity) {  // more clipping than planned for: shorten the chunk
-      count = last_offset_within(clipped_offsets, 0, count, clipped, 0, frame.plan.overflow_capacity);
+    if (clipped > chunked.plan.overflow_capacity) {  // more clipping than planned for: shorten the chunk
+      count = last_offset_within(clipped_offsets, 0, count, clipped, 0, chunked.plan.overflow_capacity);
       clipped = read_uint(queue_, clipped_offsets, count);
       pairs = read_uint(queue_, pair_offsets, count);
     }
   }
   const cl::Buffer overflow =
-      scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * frame.setup_triangle_bytes);
+      scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * chunked.setup_triangle_bytes);
   if (clipped > 0) {
-    stages.setup.run_clipped(queue_, {frame.buffers, slots, shaded, begin, count, clipped_offsets, overflow});
+    stages.setup.run_clipped(queue_, {chunked.buffers, slots, shaded, begin, count, 0, clipped_offsets, overflow});
   }
 
   if (pairs == kSaturated) {
@@ -313,24 +579,24 @@ std::uint32_t Pipeline::run_chunk(Frame& frame, std::uint32_t begin, std::uint32
   }
   ++stats.chunks;
   stats.tile_triangle_pairs += pairs;
-  if (pairs > 0) bin_and_rasterize(frame, {records, bin_boxes, overflow, clipped_offsets, pair_offsets}, count, pairs);
+  if (pairs > 0) bin_and_rasterize(chunked.raster, {records, bin_boxes, overflow, clipped_offsets, pair_offsets}, count, pairs);
   return count;
 }
 
-void Pipeline::bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
+void Pipeline::bin_and_rasterize(RasterInputs& inputs, const ChunkTriangles& chunk, std::uint32_t primitives,
                                  std::uint32_t pairs) {
-  const std::uint32_t tile_count = frame.tiles_x * frame.tiles_y;
+  const std::uint32_t tile_count = inputs.tiles_x * inputs.tiles_y;
   // In batches of primitives whose pairs fit the plan, in order.
   for (std::uint32_t batch_begin = 0; batch_begin < primitives;) {
     const std::uint32_t pair_base = read_offset(chunk.pair_offsets, batch_begin, primitives, pairs);
     const std::uint32_t batch_end =
-        pairs - pair_base <= frame.plan.pair_capacity
+        pairs - pair_base <= inputs.pair_capacity
             ? primitives
-            : last_offset_within(chunk.pair_offsets, batch_begin, primitives, pairs, pair_base, frame.plan.pair_capacity);
+            : last_offset_within(chunk.pair_offsets, batch_begin, primitives, pairs, pair_base, inputs.pair_capacity);
     // Never: the plan holds the most pairs one primitive makes (memory_plan.cpp). But not a hang.
     if (batch_end == batch_begin) {
       throw Error("primitive " + std::to_string(batch_begin) + " of a chunk makes more bin pairs than a raster batch " +
-                  "holds (" + std::to_string(frame.plan.pair_capacity) + ")");
+                  "holds (" + std::to_string(inputs.pair_capacity) + ")");
     }
     const std::uint32_t batch_pairs = read_offset(chunk.pair_offsets, batch_end, primitives, pairs) - pair_base;
     const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
@@ -344,7 +610,7 @@ void Pipeline::bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std:
     bin.primitive_count = batch_end - batch_begin;
     bin.pair_base = pair_base;
     bin.pair_count = batch_pairs;
-    bin.tiles_x = frame.tiles_x;
+    bin.tiles_x = inputs.tiles_x;
     bin.tile_count = tile_count;
     bin.tile_keys[0] = scratch_.get(Scratch::TileKeys0, pair_bytes);
     bin.tile_keys[1] = scratch_.get(Scratch::TileKeys1, pair_bytes);
@@ -354,20 +620,20 @@ void Pipeline::bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std:
     bin.block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::RadixSort::scan_scratch_bytes(batch_pairs));
     bin.counters = counters_;
     bin.tile_ranges = scratch_.get(Scratch::TileRanges, std::size_t{tile_count} * 2 * sizeof(cl_uint));
-    ProgramStages& stages = *frame.source->stages;
+    ProgramStages& stages = *inputs.stages;
     const int sorted = stages.bin.run(queue_, bin);
 
-    const RenderTarget& target = *frame.target;
-    stages::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, frame.tiles_x,
-                                frame.tiles_y, static_cast<std::uint32_t>(target.width), uniforms_,
+    const RenderTarget& target = *inputs.target;
+    stages::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, inputs.tiles_x,
+                                inputs.tiles_y, static_cast<std::uint32_t>(target.width), inputs.draws,
                                 target.depth_stencil() != nullptr ? target.depth_stencil : placeholder_, target.stencil_offset,
-                                frame.clears, {}, frame.buffers->resources};
-    for (std::size_t k = 0; k < frame.source->program->interface.outputs.size(); ++k) {
+                                inputs.clears, {}, inputs.resources};
+    for (std::size_t k = 0; k < inputs.outputs; ++k) {
       raster.colors.push_back(k < target.colors.size() ? target.colors[k] : placeholder_);
     }
     stages.raster.run(queue_, raster);
-    mark_clears_written(target, frame.clears);  // once: later passes load what this one stored
-    frame.clears = 0;
+    mark_clears_written(target, inputs.clears);  // once: later passes load what this one stored
+    inputs.clears = 0;
     batch_begin = batch_end;
   }
 }

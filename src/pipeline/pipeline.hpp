@@ -1,12 +1,17 @@
-// The pipeline: runs a draw through every stage, chunk by chunk, within the memory cap.
+// The pipeline: renders a frame of draws through every stage, within the memory cap.
 //
 //   vertex -> setup (assembly, clipping, culling, set-up) -> scans -> bin (emit pairs, radix sort by
 //   tile, tile ranges) -> raster (coverage, fragment program, per-fragment operations)
 //
-// The scans and the sort are context-wide kernels; the stages that run a program's code are
-// compiled per program (ProgramStages). All per-vertex, per-triangle and per-pixel work runs in
-// kernels. The host only reads back the totals that size the next step (clipped triangles and pairs
-// per chunk) and, when a chunk overflows what the plan gave it, binary-searches the offsets to split it.
+// A frame's draws are validated first (prepare), then rendered in passes (render): consecutive
+// draws (and each draw's instances) that share a program, its textures and the state the raster
+// stage reads go through the geometry stages one after the other into shared buffers, are binned
+// together and rasterized in one pass that takes each tile once; per-draw uniforms travel as
+// tables indexed by the draw's entry in the pass. A draw too large for a pass runs alone, chunk by
+// chunk (draw_chunked). The scans and the sort are context-wide kernels; the stages that run a
+// program's code are compiled per program (ProgramStages). The host reads back only the totals that
+// size binning (once per pass) and, when a pass or chunk overflows what the plan gave it, the
+// offsets to split it.
 #pragma once
 
 #include "clraster/clraster.hpp"
@@ -21,6 +26,8 @@
 #include "stages/vertex.hpp"
 
 #include <limits>
+#include <map>
+#include <tuple>
 
 namespace clraster::pipeline {
 
@@ -50,20 +57,17 @@ struct RenderTarget {
   resources::PendingClear* depth_clear = nullptr;     // of the depth (and stencil) attachment
 };
 
-// The largest index of the range an index buffer was last drawn with, and the index range of each
-// block of its primitives (block culling, clr_limits.h): index buffers cannot change after upload,
-// so repeated draws of the same range validate their indices, and find their blocks' ranges, once.
+// What the index ranges an index buffer was drawn with hold: index buffers cannot change after
+// upload, so repeated draws of the same range validate their indices, and find their blocks' ranges
+// (block culling, clr_limits.h), once.
 struct IndexRangeCache {
-  bool valid = false;
-  std::uint32_t first = 0;
-  std::uint32_t count = 0;
-  std::uint32_t largest = 0;
-
-  bool blocks_valid = false;
-  std::uint32_t blocks_first = 0;
-  std::uint32_t blocks_count = 0;
-  int blocks_topology = 0;
-  cl::Buffer block_ranges;  // cl_uint4 per block: two ranges that hold its indices (block_index_ranges)
+  struct Bounds {
+    std::uint32_t smallest = 0;
+    std::uint32_t largest = 0;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Bounds> bounds;  // by (first, count)
+  // cl_uint4 per block: two ranges that hold its indices (block_index_ranges), by (first, count, topology)
+  std::map<std::tuple<std::uint32_t, std::uint32_t, int>, cl::Buffer> block_ranges;
 };
 
 inline constexpr std::uint64_t kUnlimited = std::numeric_limits<std::uint64_t>::max();
@@ -87,45 +91,65 @@ struct DrawSource {
   std::uint32_t instance_count = 1;
 };
 
+// A draw of a frame, validated (Pipeline::prepare): what rendering it needs.
+struct FrameDraw {
+  const DrawSource* source = nullptr;
+  DrawUniforms uniforms{};        // instance and batch_draw set per entry of a pass
+  int topology = 0;
+  std::uint32_t first = 0;
+  std::uint32_t primitives = 0;   // per instance
+  std::uint32_t used_elements = 0;
+  std::uint64_t vertex_count = 0;  // vertices [0, vertex_count) hold every one it uses
+  std::uint32_t smallest_index = 0;  // indexed: of the indices it uses
+  bool indexed() const { return source->index_size != 0; }
+};
+
 class Pipeline {
  public:
-  // buffer_bytes: the most one buffer may take (the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE).
+  // buffer_bytes: the most one buffer may take (the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE);
+  // constant_bytes: the device's CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE, which bounds a pass's tables.
   Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, std::size_t memory_cap,
-           std::size_t buffer_bytes);
+           std::size_t buffer_bytes, std::size_t constant_bytes);
 
-  DrawStats draw(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
-                 const DrawState& state);
+  // Checks a draw (element ranges, indices, instances) without rendering anything. `source` must
+  // outlive the render of the frame.
+  FrameDraw prepare(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
+                    const DrawState& state);
+  // Renders prepared draws, in order, into `target`.
+  DrawStats render(const RenderTarget& target, const std::vector<FrameDraw>& draws);
 
   parallel::RadixSort& sort() { return sort_; }
 
  private:
-  // What every step of one draw needs.
-  struct Frame {
-    const RenderTarget* target = nullptr;
-    const DrawSource* source = nullptr;
-    const stages::DrawBuffers* buffers = nullptr;
-    MemoryPlan plan;
-    int topology = 0;
-    std::uint64_t vertex_count = 0;  // slots when every vertex is shaded once
-    std::uint32_t tiles_x = 0, tiles_y = 0;
-    std::size_t shaded_vertex_bytes = 0;
-    std::size_t setup_triangle_bytes = 0;
-    std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
-    // Block culling (clr_limits.h), where every vertex is shaded once: each block's index ranges,
-    // and each group of vertex slots' clip codes.
-    cl::Buffer block_ranges;
-    cl::Buffer group_codes;
-    std::uint32_t clipped_primitives = 0;  // CLR_COUNTER_CLIPPED as the last chunk left it
+  // One entry of a pass: an instance of a draw, with where its vertices and triangles go.
+  struct PassEntry {
+    const FrameDraw* draw = nullptr;
+    std::uint32_t instance = 0;
+    SlotMap slots{};
+    std::uint32_t main_count = 0;   // stream slots before a fan's centre (vertex.cl)
+    std::uint32_t slot_count = 0;   // slots the vertex stage fills, from slots.slot_base
+    std::uint32_t record_base = 0;  // its primitives' first entry in the pass's records
   };
-
-  std::uint32_t largest_index(const DrawSource& source, std::uint32_t first, std::uint32_t count);
-  // The index range of each block of the draw's primitives, from the index buffer's cache.
-  const cl::Buffer& block_index_ranges(const DrawSource& source, std::uint32_t first, std::uint32_t count,
-                                       int topology, std::uint32_t primitives);
-  // Runs primitives [begin, begin + count) through every stage; returns how many it took (fewer
-  // when the chunk had to be shortened).
-  std::uint32_t run_chunk(Frame& frame, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
-  // A chunk's set-up triangles, ready for binning.
+  struct Pass {
+    MemoryPlan plan;
+    std::uint32_t slot_capacity = 0;
+    std::vector<PassEntry> entries;
+    std::uint32_t primitives = 0;
+    std::uint32_t slots = 0;  // used, from 0
+    bool culls_blocks = false;  // an entry shades its index range once
+  };
+  // What the raster stage of a pass or chunk reads besides its triangles.
+  struct RasterInputs {
+    const RenderTarget* target = nullptr;
+    ProgramStages* stages = nullptr;
+    std::size_t outputs = 0;  // the program's
+    cl::Buffer draws;         // DrawUniforms table (entry 0's raster state)
+    const stages::ProgramResources* resources = nullptr;
+    std::uint32_t tiles_x = 0, tiles_y = 0;
+    std::uint64_t pair_capacity = 0;
+    std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
+  };
+  // A chunk's or pass's set-up triangles, ready for binning.
   struct ChunkTriangles {
     cl::Buffer records;          // per primitive
     cl::Buffer bin_boxes;        // per primitive, its record's pixel box
@@ -133,29 +157,65 @@ class Pipeline {
     cl::Buffer clipped_offsets;  // per primitive, into overflow
     cl::Buffer pair_offsets;     // per primitive, of its bin pairs
   };
-  // Bins and rasterizes the triangles of primitives [0, primitives) of the chunk.
-  void bin_and_rasterize(Frame& frame, const ChunkTriangles& chunk, std::uint32_t primitives,
+  // What every step of a draw rendered alone, chunk by chunk, needs.
+  struct ChunkedDraw {
+    const FrameDraw* draw = nullptr;
+    const stages::DrawBuffers* buffers = nullptr;
+    MemoryPlan plan;
+    RasterInputs raster;
+    std::size_t shaded_vertex_bytes = 0;
+    std::size_t setup_triangle_bytes = 0;
+    // Block culling (clr_limits.h), where every vertex is shaded once: each block's index ranges,
+    // and each group of vertex slots' clip codes.
+    cl::Buffer block_ranges;
+    cl::Buffer group_codes;
+    std::uint32_t clipped_primitives = 0;  // CLR_COUNTER_CLIPPED as the last chunk left it
+  };
+
+  IndexRangeCache::Bounds index_bounds(const DrawSource& source, std::uint32_t first, std::uint32_t count);
+  // The index range of each block of the draw's primitives, from the index buffer's cache.
+  const cl::Buffer& block_index_ranges(const FrameDraw& draw);
+
+  // Whether `entry_draw` may join `pass` (same program, textures and raster state), and where its
+  // instance's slots and records would go; false when the pass has no room left for it.
+  bool shares_raster_pass(const Pass& pass, const FrameDraw& draw) const;
+  bool add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instance) const;
+  // The pass plan for draws of `primitives` in all (at most CLR_MAX_CHUNK_PRIMITIVES at a time).
+  Pass start_pass(const RenderTarget& target, const FrameDraw& draw, std::uint64_t primitives) const;
+  void render_pass(const RenderTarget& target, const Pass& pass, DrawStats& stats);
+
+  // Instances [instance_begin, instance_end) of a draw, alone, chunk by chunk.
+  void draw_chunked(const RenderTarget& target, const FrameDraw& draw, std::uint32_t instance_begin,
+                    std::uint32_t instance_end, DrawStats& stats);
+  // Runs primitives [begin, begin + count) through every stage; returns how many it took (fewer
+  // when the chunk had to be shortened).
+  std::uint32_t run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std::uint32_t count, DrawStats& stats);
+  // Bins and rasterizes the triangles of primitives [0, primitives) of a chunk or pass.
+  void bin_and_rasterize(RasterInputs& raster, const ChunkTriangles& chunk, std::uint32_t primitives,
                          std::uint32_t pairs);
+  // Adds CLR_COUNTER_DROPPED to the frame's count and zeroes it.
+  void take_dropped(std::uint32_t counted);
+
   // Largest k in [lo, hi] with offsets[k] - base <= limit, for an exclusive scan whose value at hi
   // (one past its last element) is `end_value`.
   std::uint32_t last_offset_within(const cl::Buffer& offsets, std::uint32_t lo, std::uint32_t hi,
                                    std::uint32_t end_value, std::uint64_t base, std::uint64_t limit);
   // offsets[index] of an exclusive scan of `count` values whose total is known (read only when needed).
   std::uint32_t read_offset(const cl::Buffer& offsets, std::uint32_t index, std::uint32_t count, std::uint32_t total);
-  // A device buffer of at least `bytes` holding `data`, reusing `buffer` when it is large enough.
-  void upload(cl::Buffer& buffer, std::size_t& capacity, const void* data, std::size_t bytes);
+  // A read-only device buffer holding a copy of `bytes` of `data` (at least 16 bytes: OpenCL has no
+  // empty buffers); the copy is made at once, so the caller's data need not outlive the call.
+  cl::Buffer table(const void* data, std::size_t bytes) const;
 
   const cl::Context& context_;
   cl_host::Queue& queue_;
   std::size_t memory_cap_;
   std::size_t buffer_bytes_;
+  std::size_t constant_bytes_;
   cl::Buffer placeholder_;  // bound to kernel arguments a draw does not use
-  cl::Buffer uniforms_;
   cl::Buffer counters_;
-  cl::Buffer uniform_block_, texture_descs_, attribute_descs_;
-  std::size_t uniform_block_bytes_ = 0, texture_descs_bytes_ = 0, attribute_descs_bytes_ = 0;
+  std::uint64_t dropped_ = 0;  // of the frame being rendered
   resources::ScratchArena scratch_;
-  cl::Kernel index_max_;
+  cl::Kernel index_bounds_;
   cl::Kernel block_index_ranges_;
   parallel::Scan scan_;
   parallel::RadixSort sort_;

@@ -151,6 +151,7 @@ typedef struct {
   __local float4* clr_quad;        /* derivative exchange, one slot per work-item of the tile */
   __local const uint* clr_tile;    /* the tile's colour attachments (CLR_TILE_WORD), for framebuffer fetch */
   __constant const DrawUniforms* clr_draw;
+  __constant const clr_uniforms* clr_uniform_table; /* every draw's of the pass: uniforms is one of them */
   uint clr_lane;                   /* this pixel's work-item in the tile */
 } clr_fragment;
 
@@ -194,7 +195,8 @@ CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outpu
          "__constant const TextureDesc* clr_texture_descs";
   for (std::size_t i = 0; i < in.textures.size(); ++i) out << ", __global const uchar* clr_texture_" << i;
   for (std::size_t i = 0; i < in.buffers.size(); ++i) out << ", " << buffer_pointer_type(in.buffers[i]) << " clr_buffer_" << i;
-  out << "\n#define CLR_BIND_RESOURCES(target) do { (target).uniforms = clr_uniform_block;";
+  // The uniform block holds the uniforms of every draw of a pass, one clr_uniforms each.
+  out << "\n#define CLR_BIND_RESOURCES(target, draw) do { (target).uniforms = clr_uniform_block + (draw);";
   for (std::size_t i = 0; i < in.textures.size(); ++i) {
     out << " (target).textures." << in.textures[i].name << ".data = clr_texture_" << i << "; (target).textures."
         << in.textures[i].name << ".desc = clr_texture_descs + " << i << ";";
@@ -203,13 +205,14 @@ CLR_INLINE void clr_merge_outputs(clr_fragment* f, const clr_span_outputs* outpu
   out << " } while (0)\n";
   out << "#define CLR_ATTRIBUTE_PARAMS , __constant const AttributeDesc* clr_attribute_descs";
   for (std::size_t i = 0; i < in.attributes.size(); ++i) out << ", __global const uchar* clr_attribute_" << i;
-  out << "\n#define CLR_FETCH_ATTRIBUTES(attributes, vertex, instance) do {";
+  // The attribute descriptions of every draw of a pass, draw after draw.
+  out << "\n#define CLR_FETCH_ATTRIBUTES(attributes, vertex, instance, draw) do {";
   for (std::size_t i = 0; i < in.attributes.size(); ++i) {
     const ProgramVariable& a = in.attributes[i];
     const VectorType vector = vector_type(a.type);
     const char* swizzle[] = {"", ".x", ".xy", ".xyz", ""};
-    out << " (attributes)." << a.name << " = clr_fetch_" << vector.scalar << "(clr_attribute_descs + " << i
-        << ", clr_attribute_" << i << ", vertex, instance)" << swizzle[vector.components] << ";";
+    out << " (attributes)." << a.name << " = clr_fetch_" << vector.scalar << "(clr_attribute_descs + (draw) * "
+        << in.attributes.size() << " + " << i << ", clr_attribute_" << i << ", vertex, instance)" << swizzle[vector.components] << ";";
   }
   out << " } while (0)\n";
   out << "#define CLR_TARGET_PARAMS ";

@@ -1,29 +1,44 @@
-/* index_range.cl: the largest index in a range of an index buffer, so that a draw can be refused
- * before it renders anything when it references a vertex that does not exist; and the range of the
- * indices of each block of primitives, for block culling (clr_limits.h). */
+/* index_range.cl: the smallest and largest index in a range of an index buffer, so that a draw can
+ * be refused before it renders anything when it references a vertex that does not exist, and shades
+ * only the vertices it uses; and the range of the indices of each block of primitives, for block
+ * culling (clr_limits.h). */
 
 static inline uint fetch_index(__global const uchar* indices, int index_size, uint position) {
   if (index_size == 2) return ((__global const ushort*)indices)[position];
   return ((__global const uint*)indices)[position];
 }
 
+/* Into counters[CLR_COUNTER_MIN_INDEX] and [CLR_COUNTER_MAX_INDEX], which hold ~0 and 0 before. */
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))
-void index_max(__global const uchar* indices, int index_size, uint first, uint count, __global uint* counters) {
-  __local uint scratch[CLR_SCAN_GROUP_SIZE];
+void index_bounds(__global const uchar* indices, int index_size, uint first, uint count, __global uint* counters) {
+  __local uint smallest[CLR_SCAN_GROUP_SIZE];
+  __local uint largest[CLR_SCAN_GROUP_SIZE];
   const uint lid = get_local_id(0);
   const uint begin = get_group_id(0) * CLR_SCAN_BLOCK;
-  uint largest = 0;
+  uint low = 0xffffffffu;
+  uint high = 0;
   for (uint i = 0; i < CLR_SCAN_ITEMS; ++i) {
     const uint position = begin + i * CLR_SCAN_GROUP_SIZE + lid;
-    if (position < count) largest = max(largest, fetch_index(indices, index_size, first + position));
+    if (position < count) {
+      const uint index = fetch_index(indices, index_size, first + position);
+      low = min(low, index);
+      high = max(high, index);
+    }
   }
-  scratch[lid] = largest;
+  smallest[lid] = low;
+  largest[lid] = high;
   barrier(CLK_LOCAL_MEM_FENCE);
   for (uint stride = CLR_SCAN_GROUP_SIZE / 2; stride > 0; stride >>= 1) {
-    if (lid < stride) scratch[lid] = max(scratch[lid], scratch[lid + stride]);
+    if (lid < stride) {
+      smallest[lid] = min(smallest[lid], smallest[lid + stride]);
+      largest[lid] = max(largest[lid], largest[lid + stride]);
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
   }
-  if (lid == 0) atomic_max(&counters[CLR_COUNTER_MAX_INDEX], scratch[0]);
+  if (lid == 0) {
+    atomic_min(&counters[CLR_COUNTER_MIN_INDEX], smallest[0]);
+    atomic_max(&counters[CLR_COUNTER_MAX_INDEX], largest[0]);
+  }
 }
 
 /* Where the indices of each block of CLR_CULL_BLOCK_PRIMITIVES primitives of an indexed draw of

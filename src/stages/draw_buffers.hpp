@@ -20,10 +20,11 @@ struct ProgramResources {
 
 struct DrawBuffers {
   cl::Buffer indices;   // a placeholder for non-indexed draws
-  cl::Buffer uniforms;  // DrawUniforms
+  cl::Buffer uniforms;  // DrawUniforms of every draw of the pass ...
+  std::uint32_t draw = 0;  // ... and this one's entry
   cl::Buffer counters;  // CLR_COUNTER_*
   const ProgramResources* resources = nullptr;
-  cl::Buffer attribute_descs;              // AttributeDesc per declared attribute
+  cl::Buffer attribute_descs;              // AttributeDesc per declared attribute, per draw of the pass
   std::vector<cl::Buffer> attributes;      // per declared attribute
 };
 

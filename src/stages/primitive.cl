@@ -21,10 +21,10 @@ static inline uint vertex_slot(uint position, const SlotMap* slots, __global con
                                __constant const DrawUniforms* u) {
   if (slots->shade_all) {
     const uint element = u->first + position;
-    return u->index_size ? fetch_index(indices, u->index_size, element) : element;
+    return slots->slot_base + (u->index_size ? fetch_index(indices, u->index_size, element) : element) - slots->origin;
   }
-  if (u->topology == CLR_TOPOLOGY_FAN && position == 0) return slots->fan_centre;
-  return position - slots->stream_begin;
+  if (u->topology == CLR_TOPOLOGY_FAN && position == 0) return slots->slot_base + slots->fan_centre;
+  return slots->slot_base + position - slots->origin;
 }
 
 /* The vertex slots of primitive p's three vertices, into slots[0..2]. Vertex slots travel between

@@ -534,6 +534,7 @@ CLR_INLINE void shade_lane(clr_fragment* f, const __local SetupTriangle* t, span
 CLR_INLINE void process_span(const __local SetupTriangle* t, const clr_span_place* place, clr_span_int covered,
                              clr_fragment* f, __local uint* tile_color, __local float* tile_depth,
                              __local uchar* tile_stencil, __constant const DrawUniforms* u) {
+  f->uniforms = f->clr_uniform_table + (t->flags >> CLR_TRIANGLE_DRAW_SHIFT); /* the triangle's draw's */
   span_weights w = {0};
   const bool front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
   clr_span_outputs outputs = {0};
@@ -777,7 +778,8 @@ void raster_tiles(__global const SetupTriangle* records, __global const SetupTri
 #if CLR_QUAD_EXCHANGE
   f.clr_quad = quad_exchange;
 #endif
-  CLR_BIND_RESOURCES(f);
+  CLR_BIND_RESOURCES(f, 0);
+  f.clr_uniform_table = f.uniforms;
 
   for (uint base = begin; base < end; base += CLR_RASTER_TRIANGLE_BATCH) {
     const uint n = min((uint)CLR_RASTER_TRIANGLE_BATCH, end - base);

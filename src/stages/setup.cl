@@ -44,7 +44,7 @@ CLR_INLINE void write_setup_triangle(const WindowVertex* v0, const WindowVertex*
   area = area > 0 ? area : -area;
 
   SetupTriangle t;
-  t.flags = front ? CLR_TRIANGLE_FRONT_FACING : 0u;
+  t.flags = (front ? CLR_TRIANGLE_FRONT_FACING : 0u) | u->batch_draw << CLR_TRIANGLE_DRAW_SHIFT;
 #pragma unroll
   for (int k = 0; k < 3; ++k) {
     /* Edge k runs from vertex k+1 to vertex k+2, opposite vertex k. */
@@ -95,27 +95,34 @@ static inline uint outside_of_groups(__global const uint* group_codes, uint firs
 
 /* Block culling (clr_limits.h): block first_block + j of the draw's primitives is outside a clip
  * plane or viewport side where every group of vertex slots in its index ranges is (the vertex
- * stage's group_codes, the ranges from block_index_ranges), and culled[j] is then 1, else 0. One
- * work-item per block of a chunk. */
-__kernel void cull_blocks(uint first_block, uint block_count, __global const uint4* index_ranges,
+ * stage's group_codes, the ranges from block_index_ranges, index i in slot i + slot_offset), and
+ * culled[j] is then 1, else 0. One work-item per block of a chunk. */
+__kernel void cull_blocks(uint first_block, uint block_count, __global const uint4* index_ranges, uint slot_offset,
                           __global const uint* group_codes, __global uchar* culled) {
   const uint j = get_global_id(0);
   if (j >= block_count) return;
-  const uint4 ranges = index_ranges[first_block + j]; /* two, (x, y) and (z, w) */
+  const uint4 ranges = index_ranges[first_block + j] + slot_offset; /* two, (x, y) and (z, w) */
   const uint outside = outside_of_groups(group_codes, ranges.z, ranges.w,
                                          outside_of_groups(group_codes, ranges.x, ranges.y, CLR_VERTEX_OUTSIDE));
   culled[j] = outside != 0;
 }
 
 /* culled_blocks: cull_blocks' verdicts for the chunk's blocks, where `block_culling`; a primitive of a
- * culled block is rejected without a look at its indices or vertices. */
+ * culled block is rejected without a look at its indices or vertices. The draws of a pass write
+ * side by side: primitive i of this one at entry record_base + i of records, bin_boxes and the
+ * counts. */
 __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap slots,
                              __global const uchar* indices, __global const float4* shaded, int block_culling,
-                             __global const uchar* culled_blocks, __constant const DrawUniforms* u,
-                             __global SetupTriangle* records, __global uint2* bin_boxes, __global uint* pair_counts,
-                             __global uint* clipped_counts, __global uint* counters) {
+                             __global const uchar* culled_blocks, __constant const DrawUniforms* draws, uint draw,
+                             uint record_base, __global SetupTriangle* records, __global uint2* bin_boxes,
+                             __global uint* pair_counts, __global uint* clipped_counts, __global uint* counters) {
   const uint i = get_global_id(0);
   if (i >= primitive_count) return;
+  __constant const DrawUniforms* const u = draws + draw;
+  records += record_base;
+  bin_boxes += record_base;
+  pair_counts += record_base;
+  clipped_counts += record_base;
   if (i == primitive_count - 1) { /* the extra entries, whose exclusive scans are the totals */
     pair_counts[primitive_count] = 0;
     clipped_counts[primitive_count] = 0;
@@ -167,10 +174,12 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
 /* For the primitives triangle_setup counted clipped triangles for: the same clipping again, writing
  * them at the primitive's overflow offset. */
 __kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap slots, __global const uchar* indices,
-                            __global const float4* shaded, __constant const DrawUniforms* u,
-                            __global const uint* clipped_offsets, __global SetupTriangle* overflow) {
+                            __global const float4* shaded, __constant const DrawUniforms* draws, uint draw,
+                            uint record_base, __global const uint* clipped_offsets, __global SetupTriangle* overflow) {
   const uint i = get_global_id(0);
+  clipped_offsets += record_base;
   if (i >= primitive_count || clipped_offsets[i] == clipped_offsets[i + 1]) return;
+  __constant const DrawUniforms* const u = draws + draw;
   uint vertex_slots[3];
   primitive_slots(primitive_begin + i, &slots, indices, u, vertex_slots);
   const uint planes = primitive_codes(shaded, vertex_slots).x & CLR_VERTEX_OUTSIDE_PLANES;

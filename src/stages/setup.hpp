@@ -18,6 +18,7 @@ struct SetupParams {
   std::uint32_t primitive_count = 0;
   bool block_culling = false;
   cl::Buffer culled_blocks;   // cull_blocks' verdicts for the chunk's blocks (any buffer without block_culling)
+  std::uint32_t record_base = 0;  // where primitive_begin's entries are in the four outputs
   cl::Buffer records;         // out: the SetupTriangle of each primitive that needs no clipping
   cl::Buffer bin_boxes;       // out: and its pixel box (uint2: pixel_min, pixel_max), for binning
   cl::Buffer pair_counts;     // out: tiles each primitive's triangles touch, clipped ones' included
@@ -29,6 +30,7 @@ struct CullParams {
   std::uint32_t first_block = 0;  // the block of the chunk's first primitive (of the draw's blocks)
   std::uint32_t block_count = 0;
   cl::Buffer index_ranges;        // per block of the draw: its smallest and largest index
+  std::uint32_t slot_offset = 0;  // index i is in vertex slot i + slot_offset
   cl::Buffer group_codes;         // per group of vertex slots: the clip planes all its vertices are outside
   cl::Buffer culled;              // out: per block of the chunk, 1 where culled
 };
@@ -40,6 +42,7 @@ struct ClippedSetupParams {
   cl::Buffer shaded;
   std::uint32_t primitive_begin = 0;
   std::uint32_t primitive_count = 0;
+  std::uint32_t record_base = 0;  // where primitive_begin's offset is in clipped_offsets
   cl::Buffer clipped_offsets;  // primitive_count + 1 offsets into overflow
   cl::Buffer overflow;         // out: the clipped primitives' SetupTriangles
 };

@@ -217,6 +217,7 @@ typedef struct {
   clr_int index_size;           /* 0 (non-indexed), 2 or 4 */
   clr_uint first;               /* first element (index or vertex) of the draw */
   clr_uint instance;            /* the instance being drawn */
+  clr_uint batch_draw;          /* this draw's entry in its pass's table of draws (raster_tiles' triangles carry it) */
   clr_int cull;
   clr_int front_face_ccw;
   clr_int depth_test;           /* enabled and there is a depth attachment */
@@ -269,11 +270,13 @@ typedef struct {
 #define CLR_VERTEX_OUTSIDE_VIEW (0xfu << (CLR_CLIP_PLANES + 2))
 #define CLR_VERTEX_OUTSIDE (CLR_VERTEX_OUTSIDE_PLANES | CLR_VERTEX_OUTSIDE_VIEW)
 
-/* Where the vertex stage put the vertex of each stream position, for one chunk (see vertex.cl). */
+/* Where the vertex stage put the vertex of each stream position, for one draw or chunk (see
+ * vertex.cl). The draws of a pass share the shaded vertices, each from its own slot_base. */
 typedef struct {
-  clr_int shade_all;     /* slot = vertex index */
-  clr_uint stream_begin; /* else slot = stream position - stream_begin ... */
-  clr_uint fan_centre;   /* ... except a fan's centre (position 0), in this slot */
+  clr_int shade_all;   /* slot = slot_base + vertex index - origin (origin: the draw's smallest index) */
+  clr_uint origin;     /* else slot = slot_base + stream position - origin ... */
+  clr_uint fan_centre; /* ... except a fan's centre (position 0), in slot slot_base + fan_centre */
+  clr_uint slot_base;
 } SlotMap;
 
 /* ---- Set-up triangles ------------------------------------------------------------------------------
@@ -283,6 +286,9 @@ typedef struct {
  * equals 2 * area * barycentric_k. A centre exactly on edge k is covered when bit k of
  * `flags` is set (a left or bottom edge, the rule llvmpipe applies). */
 #define CLR_TRIANGLE_FRONT_FACING (1u << 3)
+/* flags >> CLR_TRIANGLE_DRAW_SHIFT: the triangle's draw in its pass (DrawUniforms::batch_draw), whose
+ * uniform block its fragments read. */
+#define CLR_TRIANGLE_DRAW_SHIFT 8
 
 /* Bin pair triangle ids with this bit set index the overflow records of clipped primitives; the
  * others index the chunk's per-primitive records (see setup.cl). */
@@ -302,7 +308,7 @@ typedef struct {
   clr_float varyings[3][CLR_NUM_VARYINGS];
   clr_float inv_double_area;               /* 1 / (2 * unsnapped area), in fixed-point units squared */
   clr_uint primitive_id;
-  clr_uint flags;                          /* bits 0-2: edge includes centres on it; bit 3: front */
+  clr_uint flags;                          /* bits 0-2: edge includes centres on it; bit 3: front; 8-31: draw */
   clr_uint pixel_min;                      /* writable pixels in the bounding box: x | y << 16 ... */
   clr_uint pixel_max;                      /* ... to x | y << 16, inclusive */
 } SetupTriangle;
@@ -310,9 +316,10 @@ typedef struct {
 
 /* ---- Counters the host reads back (one small buffer per context) -------------------------------- */
 #define CLR_COUNTER_SCAN_TOTAL 0     /* total of the last scan */
-#define CLR_COUNTER_DROPPED 1        /* primitives dropped for non-finite coordinates, this draw */
+#define CLR_COUNTER_DROPPED 1        /* primitives dropped for non-finite coordinates, since the host last read it */
 #define CLR_COUNTER_MAX_INDEX 2      /* largest index in a range (index validation) */
 #define CLR_COUNTER_CLIPPED 3        /* primitives that needed clipping, this draw (a chunk cut short counts twice) */
-#define CLR_COUNTER_COUNT 4
+#define CLR_COUNTER_MIN_INDEX 4      /* smallest index in a range */
+#define CLR_COUNTER_COUNT 5
 
 #endif /* CLRASTER_TYPES_H */

@@ -3,40 +3,45 @@
  * the varyings, then classifies, projects and snaps the positions together, one vector lane each
  * (clip.cl).
  *
- * Slots: when the whole vertex range is shaded once per draw, slot s holds vertex s. Otherwise
- * (the draw's transformed vertices would not fit the memory cap) each chunk shades its own stream
- * positions: slot s holds the element at stream position stream_begin + s, and for fans one extra
- * slot, main_count, holds the fan's centre (stream position 0).
+ * Slots (SlotMap, types.h): a draw's slots start at slots.slot_base, so that the draws of one pass
+ * keep their vertices side by side until set-up has read them. When the draw's index range is shaded
+ * once, its slot slot_base + s holds vertex slots.origin + s. Otherwise (the range would take more
+ * slots than the draw's stream positions, or the draw is not indexed) slot slot_base + s holds the
+ * element at stream position origin + s, and for fans one extra slot, main_count, the fan's centre
+ * (stream position 0).
  *
  * Besides the program's outputs a slot keeps the vertex's clip codes and its window position
- * (types.h): computed here once per vertex, not by set-up once per triangle using it. When every
- * vertex is shaded once, the codes of each group of CLR_CODE_GROUP_SLOTS slots are also ANDed into
- * group_codes, for block culling (setup.cl): on CPUs a work-item's slots are one group, whose codes
- * it stores; on GPUs the group's work-items AND theirs in (group_codes filled with ones before). */
+ * (types.h): computed here once per vertex, not by set-up once per triangle using it. When the index
+ * range is shaded once, the codes of each group of CLR_CODE_GROUP_SLOTS slots are also ANDed into
+ * group_codes, for block culling (setup.cl; slot_base is a multiple of the group size): on CPUs a
+ * work-item's slots are one group, whose codes it stores; on GPUs the group's work-items AND theirs
+ * in (group_codes filled with ones before). */
 
-__kernel void vertex_shade(__global const uchar* indices, int shade_all, uint stream_begin, uint main_count,
-                           uint slot_count, __constant const DrawUniforms* u, __global float4* shaded,
+__kernel void vertex_shade(__global const uchar* indices, SlotMap slots, uint main_count, uint slot_count,
+                           __constant const DrawUniforms* draws, uint draw, __global float4* shaded,
                            __global uint* group_codes CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
-  const uint first_slot = get_global_id(0) * CLR_VERTEX_LANES;
-  if (first_slot >= slot_count) return;
-  const uint lane_count = min((uint)CLR_VERTEX_LANES, slot_count - first_slot);
+  __constant const DrawUniforms* const u = draws + draw;
+  const uint first_local = get_global_id(0) * CLR_VERTEX_LANES;
+  if (first_local >= slot_count) return;
+  const uint lane_count = min((uint)CLR_VERTEX_LANES, slot_count - first_local);
+  const uint first_slot = slots.slot_base + first_local;
   __global float4* const first_out = shaded + (size_t)first_slot * CLR_SHADED_VERTEX_FLOAT4S;
 
   /* Lanes past the last slot keep (0, 0, 0, 1) and store nothing. */
   PositionLanes p = position_in_every_lane((float4)(0.0f, 0.0f, 0.0f, 1.0f));
   for (uint lane = 0; lane < lane_count; ++lane) {
-    const uint slot = first_slot + lane;
-    uint vertex_index = slot;
-    if (!shade_all) {
-      const uint stream_position = u->first + (slot < main_count ? stream_begin + slot : 0u);
+    const uint draw_slot = first_local + lane;
+    uint vertex_index = slots.origin + draw_slot;
+    if (!slots.shade_all) {
+      const uint stream_position = u->first + (draw_slot < main_count ? slots.origin + draw_slot : 0u);
       vertex_index = u->index_size ? fetch_index(indices, u->index_size, stream_position) : stream_position;
     }
     clr_vertex v = {0};
     v.vertex_id = vertex_index;
     v.instance_id = u->instance;
-    CLR_FETCH_ATTRIBUTES(v.in, vertex_index, u->instance);
+    CLR_FETCH_ATTRIBUTES(v.in, vertex_index, u->instance, draw);
     v.position = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
-    CLR_BIND_RESOURCES(v);
+    CLR_BIND_RESOURCES(v, draw);
     vertex(&v);
     __global float4* const out = first_out + lane * CLR_SHADED_VERTEX_FLOAT4S;
     out[0] = v.position;
@@ -60,7 +65,7 @@ __kernel void vertex_shade(__global const uchar* indices, int shade_all, uint st
    * not finite (such a vertex's primitives are dropped and counted, not culled). Lanes past the last
    * slot count as outside all of them. CLR_VERTEX_LANES divides CLR_CODE_GROUP_SLOTS, so the slots
    * are in one group. */
-  if (shade_all) {
+  if (slots.shade_all) {
     const vertex_lanes_int outside =
         select((vertex_lanes_int)(0), codes & (vertex_lanes_int)(CLR_VERTEX_OUTSIDE), finite);
     uint all_outside = CLR_VERTEX_OUTSIDE;

@@ -7,9 +7,8 @@ namespace clraster::stages {
 
 void VertexStage::run(cl_host::Queue& queue, const VertexParams& p) {
   queue.set_stage(cl_host::Stage::Vertex);
-  cl_uint next = cl_host::set_args(kernel_, p.draw->indices, cl_int{p.shade_all}, cl_uint{p.stream_begin},
-                                   cl_uint{p.main_count}, cl_uint{p.slot_count}, p.draw->uniforms, p.shaded,
-                                   p.group_codes);
+  cl_uint next = cl_host::set_args(kernel_, p.draw->indices, p.slots, cl_uint{p.main_count}, cl_uint{p.slot_count},
+                                   p.draw->uniforms, cl_uint{p.draw->draw}, p.shaded, p.group_codes);
   next = set_resource_args(kernel_, next, *p.draw->resources);
   kernel_.setArg(next++, p.draw->attribute_descs);
   for (const cl::Buffer& attribute : p.draw->attributes) kernel_.setArg(next++, attribute);

@@ -4,6 +4,7 @@
 
 #include "clr_limits.h"
 #include "stages/draw_buffers.hpp"
+#include "stages/types.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -12,10 +13,9 @@ namespace clraster::stages {
 
 struct VertexParams {
   const DrawBuffers* draw = nullptr;
-  bool shade_all = false;          // slot s = vertex s, for s < slot_count
-  std::uint32_t stream_begin = 0;  // else slot s = stream position stream_begin + s, for s < main_count,
-  std::uint32_t main_count = 0;    // and slot main_count = the fan's centre when slot_count exceeds it
-  std::uint32_t slot_count = 0;
+  SlotMap slots{};                // where the draw's vertices go (types.h, vertex.cl)
+  std::uint32_t main_count = 0;   // stream slots: the fan's centre is in slot main_count when slot_count exceeds it
+  std::uint32_t slot_count = 0;   // from slots.slot_base
   cl::Buffer shaded;
   cl::Buffer group_codes;  // when shade_all: each group of slots' clip codes (see ands_group_codes)
 };
