@@ -11,7 +11,7 @@
 // draws a model.
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
-#include "cli/model_draws.hpp"
+#include "frontend/model_draws.hpp"
 #include "io/image_io.hpp"
 #include "pipeline/draw_state.hpp"
 
@@ -142,7 +142,7 @@ struct LeanSceneData {
   LeanShading shading = LeanShading::Normal;
   bool depth_test = true;
   Mat4 mvp{};
-  cli::ProgramInputs view;       // the material program's uniforms
+  frontend::ProgramInputs view;  // the material program's uniforms
   std::optional<Image> texture;  // the material's, rows from the top; none: one white texel
 };
 
@@ -197,7 +197,9 @@ class LeanScene {
     switch (scene.shading) {
       case LeanShading::Normal: program_ = link(kNormalVertexShader, kNormalFragmentShader); break;
       case LeanShading::Overdraw: program_ = link(kConstantVertexShader, kConstantFragmentShader); break;
-      case LeanShading::Material: program_ = link(cli::kGlMaterialVertexShader, cli::kGlMaterialFragmentShader); break;
+      case LeanShading::Material:
+        program_ = link(frontend::kGlMaterialVertexShader, frontend::kGlMaterialFragmentShader);
+        break;
     }
     const GLuint program = program_;
     glUseProgram(program);
@@ -305,7 +307,7 @@ SceneSetup make_setup(const std::string& name, int width, int height) {
   lean.mesh = scene.model;
   lean.depth_test = setup.state.depth_test;
   lean.mvp = pipeline::model_view_projection(setup.state);
-  lean.view = cli::view_inputs(scene.camera, width, height);
+  lean.view = frontend::view_inputs(scene.camera, width, height);
   const auto index_count = static_cast<std::uint32_t>(scene.model.indices.size());
   if (scene.draws_materials()) {
     lean.shading = LeanShading::Material;

@@ -1,6 +1,6 @@
 #include "bench/runner.hpp"
 
-#include "cli/model_draws.hpp"
+#include "frontend/model_draws.hpp"
 #include "oracle/gl_renderer.hpp"
 
 #include <algorithm>
@@ -53,8 +53,8 @@ class ClrasterScene {
         framebuffer_(context, {&color_}, &depth_) {
     if (scene.draws_materials()) {
       std::vector<std::string> warnings;
-      material_draws_.emplace(context, Program(context, cli::kMaterialProgram, "<material>"), scene.model,
-                              cli::view_inputs(scene.camera, width, height), warnings);
+      material_draws_.emplace(context, Program(context, frontend::kMaterialProgram, "<material>"), scene.model,
+                              frontend::view_inputs(scene.camera, width, height), warnings);
       require_no_warnings(warnings, scene.name);
       calls_ = material_draws_->calls(vertices_, indices_, state);
     } else {
@@ -67,11 +67,11 @@ class ClrasterScene {
   ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the calls point into it
   ClrasterScene& operator=(const ClrasterScene&) = delete;
 
-  // The frame's statistics: its draws' together (cli::accumulate).
+  // The frame's statistics: its draws' together (frontend::accumulate).
   DrawStats frame() {
     framebuffer_.clear({0, 0, 0, 1}, 1.0f);
     DrawStats stats;
-    for (const DrawCall& call : calls_) cli::accumulate(stats, framebuffer_.draw(call));
+    for (const DrawCall& call : calls_) frontend::accumulate(stats, framebuffer_.draw(call));
     context_.finish();
     return stats;
   }
@@ -85,7 +85,7 @@ class ClrasterScene {
   Texture color_;
   Texture depth_;
   Framebuffer framebuffer_;
-  std::optional<cli::ClrasterModelDraws> material_draws_;
+  std::optional<frontend::ClrasterModelDraws> material_draws_;
   std::vector<DrawCall> calls_;
 };
 
@@ -119,22 +119,14 @@ GlScene::GlScene(const Scene& scene, const DrawState& state, int width, int heig
   if (scene.draws_materials()) {
     model_ = scene.model;
     std::vector<std::string> warnings;
-    material_draws_.emplace(*model_, cli::view_inputs(scene.camera, width, height), warnings);
+    material_draws_.emplace(*model_, frontend::view_inputs(scene.camera, width, height), warnings);
     require_no_warnings(warnings, scene.name);
   } else {
     mesh_.emplace(scene.model.positions, scene.model.normals, scene.model.indices);
   }
 }
 
-void GlScene::frame() {
-  renderer_.clear({0, 0, 0, 1}, 1.0f);
-  if (material_draws_) {
-    material_draws_->draw(renderer_, state_);
-  } else {
-    renderer_.draw(*mesh_, 0, kAllElements, state_);
-  }
-  renderer_.finish();
-}
+void GlScene::frame() { frontend::draw_gl_frame(renderer_, state_, mesh_, material_draws_); }
 
 Image GlScene::picture() const { return renderer_.read_color(); }
 std::string GlScene::renderer() const { return renderer_.renderer(); }

@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "bench/scenes.hpp"
-#include "cli/model_draws.hpp"
 #include "clraster/clraster.hpp"
+#include "frontend/model_draws.hpp"
 #include "io/image_compare.hpp"
 #include "oracle/gl_renderer.hpp"
 
@@ -76,8 +76,8 @@ struct SceneRun {
 
 // A scene on llvmpipe as the benchmark draws it, through the OpenGL oracle: its mesh with its
 // built-in shading in one draw, or its model with the material program part by part, as the
-// command line draws models (cli::GlMaterialDraws). bench/gl_minimal.cpp times it against OpenGL
-// used directly.
+// command line draws models (frontend::GlMaterialDraws), a frame as `render --backend gl` draws one
+// (frontend::draw_gl_frame). bench/gl_minimal.cpp times it against OpenGL used directly.
 class GlScene {
  public:
   GlScene(const Scene& scene, const DrawState& state, int width, int height);
@@ -94,7 +94,7 @@ class GlScene {
   DrawState state_;
   std::optional<oracle::GlMesh> mesh_;  // a scene with a built-in shading
   std::optional<io::Model> model_;      // or one with materials, drawn part by part
-  std::optional<cli::GlMaterialDraws> material_draws_;
+  std::optional<frontend::GlMaterialDraws> material_draws_;
 };
 
 // Has the process keep the memory it frees (runner.cpp says why); run_scene calls it.

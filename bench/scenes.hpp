@@ -1,7 +1,7 @@
 // The scenes of `clraster bench`, each drawn from a fixed camera: fixed procedural meshes drawn in
 // one draw with one of the command line's built-in shadings, and models drawn part by part with the
 // material program, one draw per part, as `render --shading material` draws models
-// (cli/model_draws.hpp). They are made for 1920x1080, the benchmark's default size; at another
+// (frontend/model_draws.hpp). They are made for 1920x1080, the benchmark's default size; at another
 // size the same view is drawn, its projection following the aspect.
 //
 //   model-50k   a trefoil knot of 50,000 triangles, smooth and closed, over 37% of the picture,

@@ -1,6 +1,6 @@
 #include "cli/commands.hpp"
 #include "cli/demo_scene.hpp"
-#include "cli/model_draws.hpp"
+#include "frontend/model_draws.hpp"
 #include "io/image_io.hpp"
 #include "io/model_loader.hpp"
 #include "io/shading.hpp"
@@ -94,7 +94,7 @@ struct Rendering {
 // generated.") straight to the process's stderr, without the diagnostics themselves (which a
 // BuildError carries, and which the build log keeps for warnings): such lines are held back from
 // stderr, anything else written there during the build is passed on.
-Program compile(Context& context, const ProgramSource& program) {
+Program compile(Context& context, const frontend::ProgramSource& program) {
   static const std::regex summary(R"(^\d+ (warning|error)s?( and \d+ errors?)? generated\.$)");
   std::fflush(stderr);
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> captured(std::tmpfile(), &std::fclose);
@@ -124,16 +124,17 @@ Program compile(Context& context, const ProgramSource& program) {
 }
 
 // The program of --program or of --shading material, checked against the command line's contract.
-ProgramSource contract_program(const RenderOptions& options) {
-  ProgramSource program =
-      options.program.empty() ? ProgramSource{kMaterialProgram, "<material>"} : read_program_file(options.program);
-  check_contract(program);
+frontend::ProgramSource contract_program(const RenderOptions& options) {
+  frontend::ProgramSource program = options.program.empty()
+                                        ? frontend::ProgramSource{frontend::kMaterialProgram, "<material>"}
+                                        : frontend::read_program_file(options.program);
+  frontend::check_contract(program);
   return program;
 }
 
 // `program`: what draws the model's materials, or none for a built-in shading.
 Rendering render_with_clraster(const RenderOptions& options, const io::Model& model, const io::Camera& camera,
-                               const DrawState& state, const std::optional<ProgramSource>& program) {
+                               const DrawState& state, const std::optional<frontend::ProgramSource>& program) {
   ContextOptions context_options;
   context_options.device = options.device;
   context_options.memory_cap = options.memory_cap;
@@ -144,12 +145,12 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
   const IndexBuffer indices(context, model.indices);
   Framebuffer framebuffer(context, options.width, options.height);
 
-  std::optional<ClrasterModelDraws> material_draws;
+  std::optional<frontend::ClrasterModelDraws> material_draws;
   std::vector<DrawCall> calls;
   if (program) {
     std::vector<std::string> warnings;
     material_draws.emplace(context, compile(context, *program), model,
-                           view_inputs(camera, options.width, options.height), warnings);
+                           frontend::view_inputs(camera, options.width, options.height), warnings);
     print_warnings(warnings);
     calls = material_draws->calls(vertices, indices, state);
   } else {
@@ -164,7 +165,7 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
   rendering.times = time_frames(options.frames, [&] {
     framebuffer.clear({0, 0, 0, 1}, 1.0f);
     frame_stats = {};
-    for (const DrawCall& call : calls) accumulate(frame_stats, framebuffer.draw(call));
+    for (const DrawCall& call : calls) frontend::accumulate(frame_stats, framebuffer.draw(call));
     context.finish();
   });
   rendering.image = framebuffer.read_color();
@@ -190,25 +191,17 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
                          const DrawState& state) {
   oracle::GlRenderer gl(options.width, options.height);
   std::optional<oracle::GlMesh> mesh;
-  std::optional<GlMaterialDraws> material_draws;
+  std::optional<frontend::GlMaterialDraws> material_draws;
   if (draws_materials(options)) {
     std::vector<std::string> warnings;
-    material_draws.emplace(model, view_inputs(camera, options.width, options.height), warnings);
+    material_draws.emplace(model, frontend::view_inputs(camera, options.width, options.height), warnings);
     print_warnings(warnings);
   } else {
     mesh.emplace(model.positions, model.normals, model.indices);
   }
 
   Rendering rendering;
-  rendering.times = time_frames(options.frames, [&] {
-    gl.clear({0, 0, 0, 1}, 1.0f);
-    if (material_draws) {
-      material_draws->draw(gl, state);
-    } else {
-      gl.draw(*mesh, 0, kAllElements, state);
-    }
-    gl.finish();
-  });
+  rendering.times = time_frames(options.frames, [&] { frontend::draw_gl_frame(gl, state, mesh, material_draws); });
   rendering.image = gl.read_color();
   // OpenGL does not say how it drew: clraster's own counters are null (triangles_dropped too: the
   // loader's count alone would pass for the whole; the warning line gives it).
@@ -264,7 +257,7 @@ int render(const RenderOptions& options) {
   }
   check_output_writable(options.output);
   // Before the model is loaded: a program the command line cannot serve is refused at once.
-  std::optional<ProgramSource> program;
+  std::optional<frontend::ProgramSource> program;
   if (options.backend == Backend::Clraster && draws_materials(options)) program = contract_program(options);
   const io::Model model = load_scene(options);
   const io::BoundingSphere bounds = io::bounding_sphere(model);

@@ -1,4 +1,4 @@
-#include "cli/program_contract.hpp"
+#include "frontend/program_contract.hpp"
 
 #include <algorithm>
 #include <string>
@@ -7,7 +7,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
-namespace clraster::cli {
+namespace clraster::frontend {
 namespace {
 
 struct ProvidedAttribute {
@@ -134,4 +134,4 @@ bool declares_attribute(const ProgramInterface& interface, std::string_view name
   return std::any_of(attributes.begin(), attributes.end(), [&](const ProgramVariable& a) { return a.name == name; });
 }
 
-}  // namespace clraster::cli
+}  // namespace clraster::frontend

@@ -1,11 +1,11 @@
-#include "cli/model_draws.hpp"
+#include "frontend/model_draws.hpp"
 
 #include "io/image_io.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-namespace clraster::cli {
+namespace clraster::frontend {
 namespace {
 
 // The texel of the texture that parts without an image are drawn with: sampled as 1, it leaves the
@@ -167,4 +167,15 @@ void GlMaterialDraws::draw(oracle::GlRenderer& target, const DrawState& state) {
   }
 }
 
-}  // namespace clraster::cli
+void draw_gl_frame(oracle::GlRenderer& target, const DrawState& state, const std::optional<oracle::GlMesh>& mesh,
+                   std::optional<GlMaterialDraws>& material_draws) {
+  target.clear({0, 0, 0, 1}, 1.0f);
+  if (material_draws) {
+    material_draws->draw(target, state);
+  } else {
+    target.draw(mesh.value(), 0, kAllElements, state);
+  }
+  target.finish();
+}
+
+}  // namespace clraster::frontend

@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-namespace clraster::cli {
+namespace clraster::frontend {
 
 // The material program (programs/material.cl, embedded at build time): `--shading material`.
 extern const char* const kMaterialProgram;
@@ -66,4 +66,4 @@ bool declares_base_color_texture(const ProgramInterface& interface);
 // Whether a program declares the attribute `name`.
 bool declares_attribute(const ProgramInterface& interface, std::string_view name);
 
-}  // namespace clraster::cli
+}  // namespace clraster::frontend

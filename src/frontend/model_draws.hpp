@@ -1,12 +1,13 @@
 // A model drawn part by part with a program that follows the command line's contract
 // (program_contract.hpp): each part with its material's base colour factor and texture. One class
 // per backend: clraster with any such program (the built-in material program or a --program file),
-// and the OpenGL oracle with the GLSL equivalent of the material program.
+// and the OpenGL oracle with the GLSL equivalent of the material program. Used by the command line
+// (`render --shading material`, `--program`) and the benchmark's scenes of materials.
 #pragma once
 
-#include "cli/material_textures.hpp"
-#include "cli/program_contract.hpp"
 #include "clraster/clraster.hpp"
+#include "frontend/material_textures.hpp"
+#include "frontend/program_contract.hpp"
 #include "io/model_loader.hpp"
 #include "oracle/gl_renderer.hpp"
 #include "oracle/gl_scene.hpp"
@@ -15,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace clraster::cli {
+namespace clraster::frontend {
 
 // The GLSL equivalent of programs/material.cl (uniforms mvp, normal_matrix, light_direction,
 // base_color; sampler base_color_texture): what GlMaterialDraws draws with.
@@ -64,4 +65,11 @@ class GlMaterialDraws {
   MaterialTextures<oracle::GlTexture> textures_;
 };
 
-}  // namespace clraster::cli
+// One frame of a model on the OpenGL oracle, as `render --backend gl` and the benchmark draw it:
+// clears to (0, 0, 0, 1) and depth 1, draws every part with `material_draws` when it holds them,
+// else `mesh` in one draw (a built-in shading), with `state`'s fixed-function state, and waits for
+// the rendering (glFinish). One of the two must hold a value.
+void draw_gl_frame(oracle::GlRenderer& target, const DrawState& state, const std::optional<oracle::GlMesh>& mesh,
+                   std::optional<GlMaterialDraws>& material_draws);
+
+}  // namespace clraster::frontend

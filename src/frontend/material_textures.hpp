@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace clraster::cli {
+namespace clraster::frontend {
 
 // What errors and warnings call a material's image: its file, or its reference in the model file.
 inline std::string image_name(const io::MaterialTexture& image) {
@@ -64,4 +64,4 @@ class MaterialTextures {
   std::vector<std::optional<Texture>> textures_;  // per material; empty: white_
 };
 
-}  // namespace clraster::cli
+}  // namespace clraster::frontend
