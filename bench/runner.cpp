@@ -67,11 +67,10 @@ class ClrasterScene {
   ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the calls point into it
   ClrasterScene& operator=(const ClrasterScene&) = delete;
 
-  // The frame's statistics: its draws' together (frontend::accumulate).
+  // One frame of every part's draw.
   DrawStats frame() {
     framebuffer_.clear({0, 0, 0, 1}, 1.0f);
-    DrawStats stats;
-    for (const DrawCall& call : calls_) frontend::accumulate(stats, framebuffer_.draw(call));
+    const DrawStats stats = framebuffer_.draw(calls_);
     context_.finish();
     return stats;
   }

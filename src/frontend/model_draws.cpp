@@ -81,18 +81,6 @@ void main() {
 
 // ---- clraster -----------------------------------------------------------------------------------
 
-void accumulate(DrawStats& total, const DrawStats& draw) {
-  total.triangles += draw.triangles;
-  total.triangles_dropped += draw.triangles_dropped;
-  total.chunks += draw.chunks;
-  total.tile_triangle_pairs += draw.tile_triangle_pairs;
-  total.peak_memory_bytes = std::max(total.peak_memory_bytes, draw.peak_memory_bytes);
-  total.stage_times.vertex_ms += draw.stage_times.vertex_ms;
-  total.stage_times.setup_ms += draw.stage_times.setup_ms;
-  total.stage_times.binning_ms += draw.stage_times.binning_ms;
-  total.stage_times.raster_ms += draw.stage_times.raster_ms;
-  total.stage_times.other_ms += draw.stage_times.other_ms;
-}
 
 ClrasterModelDraws::ClrasterModelDraws(Context& context, Program program, const io::Model& model,
                                        const ProgramInputs& view, std::vector<std::string>& warnings)

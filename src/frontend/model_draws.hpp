@@ -23,10 +23,6 @@ namespace clraster::frontend {
 extern const char* const kGlMaterialVertexShader;
 extern const char* const kGlMaterialFragmentShader;
 
-// The statistics of several draws of one frame as those of one: counts and stage times add up, the
-// peak is the context's so far.
-void accumulate(DrawStats& total, const DrawStats& draw);
-
 class ClrasterModelDraws {
  public:
   // Binds what `program`, which follows the contract (check_contract), declares: `view`'s uniforms,
