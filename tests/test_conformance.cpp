@@ -96,7 +96,8 @@ DrawState constant(std::array<float, 4> colour) {
 }
 
 // Renders the draws with both renderers, holds clraster to the oracle's picture, which must show
-// something (two black pictures would prove nothing), and returns clraster's.
+// something (two black pictures would prove nothing), and returns clraster's. Several draws are
+// also drawn as one frame, which must give the same picture, bit for bit.
 Image expect_matches_gl(const std::vector<SceneDraw>& draws, int width, int height, const Tolerance& tolerance,
                         Context& context = shared_context()) {
   const Image reference = render_scene_gl(draws, width, height);
@@ -106,6 +107,10 @@ Image expect_matches_gl(const std::vector<SceneDraw>& draws, int width, int heig
   }
   Image result = render_scene_clraster(context, draws, width, height);
   EXPECT_TRUE(images_match(result, reference, tolerance));
+  if (draws.size() > 1) {
+    EXPECT_TRUE(images_match(render_scene_clraster(context, draws, width, height, Submission::Frame), result, kExact))
+        << "the draws as one frame";
+  }
   return result;
 }
 

@@ -114,7 +114,8 @@ Image render_gl(const io::Mesh& mesh, const DrawState& state, int width, int hei
   return gl.read_color();
 }
 
-Image render_scene_clraster(Context& context, std::span<const SceneDraw> draws, int width, int height) {
+Image render_scene_clraster(Context& context, std::span<const SceneDraw> draws, int width, int height,
+                            Submission submission) {
   UploadCache meshes([&](const io::Mesh& mesh, IndexFormat format) {
     switch (format) {
       case IndexFormat::Uint32:
@@ -129,9 +130,15 @@ Image render_scene_clraster(Context& context, std::span<const SceneDraw> draws, 
   });
   Framebuffer framebuffer(context, width, height);
   framebuffer.clear({0, 0, 0, 1}, 1.0f);
+  std::vector<DrawCall> calls;
   for (const SceneDraw& draw : draws) {
     const ClrasterMesh& mesh = meshes.get(draw);
-    framebuffer.draw({&mesh.vertices, mesh.indices ? &*mesh.indices : nullptr, draw.first, draw.count, draw.state});
+    calls.push_back({&mesh.vertices, mesh.indices ? &*mesh.indices : nullptr, draw.first, draw.count, draw.state});
+  }
+  if (submission == Submission::Frame) {
+    framebuffer.draw(calls);
+  } else {
+    for (const DrawCall& call : calls) framebuffer.draw(call);
   }
   return framebuffer.read_color();
 }

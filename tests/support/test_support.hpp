@@ -62,10 +62,15 @@ struct SceneDraw {
   std::uint32_t count = kAllElements;
 };
 
+// How clraster is given a scene's draws: one Framebuffer::draw call each, or all of them as one
+// frame (Framebuffer::draw of a span), which rasterizes draws together.
+enum class Submission { OneByOne, Frame };
+
 // Renders the draws in order into one width x height framebuffer cleared to opaque black and
 // depth 1, with clraster or with the OpenGL oracle. Each mesh is uploaded once per render, however
 // many draws use it.
-Image render_scene_clraster(Context& context, std::span<const SceneDraw> draws, int width, int height);
+Image render_scene_clraster(Context& context, std::span<const SceneDraw> draws, int width, int height,
+                            Submission submission = Submission::OneByOne);
 Image render_scene_gl(std::span<const SceneDraw> draws, int width, int height);
 
 // Pixels with a non-zero R, G or B channel (drawn over an opaque black background), as
