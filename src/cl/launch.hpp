@@ -36,6 +36,14 @@ inline void enqueue_items(Queue& queue, cl::Kernel& kernel, std::size_t count, s
                                    cl::NDRange(group_size), nullptr, queue.event());
 }
 
+// `count` work-items for each of `instances` (the second dimension), in groups of group_size.
+inline void enqueue_instanced_items(Queue& queue, cl::Kernel& kernel, std::size_t count, std::size_t instances,
+                                    std::size_t group_size) {
+  if (count == 0 || instances == 0) return;
+  queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(round_up(count, group_size), instances),
+                                   cl::NDRange(group_size, 1), nullptr, queue.event());
+}
+
 // One work-group per `block` elements.
 inline void enqueue_blocks(Queue& queue, cl::Kernel& kernel, std::size_t count, std::size_t block,
                            std::size_t group_size) {

@@ -26,7 +26,9 @@ resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::u
   if (shade_all || in.pass) {  // block culling (clr_limits.h)
     at(b, Scratch::GroupCodes) = code_groups(slots) * sizeof(cl_uint);
     // A byte per block, and 4 bytes at least, as the arena allocates.
-    at(b, Scratch::CulledBlocks) = std::max<std::uint64_t>(chunk_blocks(static_cast<std::uint32_t>(chunk)), 4);
+    // (A pass's instances each take their draw's blocks whole: at most a byte per primitive.)
+    at(b, Scratch::CulledBlocks) =
+        std::max<std::uint64_t>(in.pass ? chunk : chunk_blocks(static_cast<std::uint32_t>(chunk)), 4);
   }
   at(b, Scratch::Records) = chunk * in.setup_triangle_bytes;
   at(b, Scratch::BinBoxes) = chunk * sizeof(cl_uint2);

@@ -229,15 +229,20 @@ DrawStats Pipeline::render(const RenderTarget& target, const std::vector<FrameDr
   for (std::size_t i = 0; i < draws.size(); ++i) {
     const FrameDraw& draw = draws[i];
     if (draw.primitives == 0) continue;
-    for (std::uint32_t instance = 0; instance < draw.source->instance_count; ++instance) {
-      if (pass && shares_raster_pass(*pass, draw) && add_entry(*pass, draw, instance)) continue;
-      if (pass) render_pass(target, *pass, stats);
-      pass = start_pass(target, draw, remaining[i]);
-      if (!add_entry(*pass, draw, instance)) {  // too large for a pass: alone, chunk by chunk
+    const std::uint32_t instances = draw.source->instance_count;
+    for (std::uint32_t instance = 0; instance < instances;) {
+      std::uint32_t taken = pass && shares_raster_pass(*pass, draw) ? add_entry(*pass, draw, instance, instances - instance) : 0;
+      if (taken == 0) {
+        if (pass) render_pass(target, *pass, stats);
+        pass = start_pass(target, draw, remaining[i]);
+        taken = add_entry(*pass, draw, instance, instances - instance);
+      }
+      if (taken == 0) {  // too large for a pass: alone, chunk by chunk
         pass.reset();
-        draw_chunked(target, draw, instance, draw.source->instance_count, stats);
+        draw_chunked(target, draw, instance, instances, stats);
         break;
       }
+      instance += taken;
     }
   }
   if (pass) render_pass(target, *pass, stats);
@@ -285,15 +290,14 @@ bool Pipeline::shares_raster_pass(const Pass& pass, const FrameDraw& draw) const
   return same_bytes(raster_state(pass.entries.front().draw->uniforms), raster_state(draw.uniforms));
 }
 
-bool Pipeline::add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instance) const {
+std::uint32_t Pipeline::add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instance,
+                                  std::uint32_t count) const {
   // A pass's tables are constant memory: a quarter of it for each of the draw and uniform tables.
   const std::size_t entry_bytes = std::max<std::size_t>(
       {sizeof(DrawUniforms), draw.source->uniforms.size(), draw.source->attributes.size() * sizeof(AttributeDesc)});
   const std::size_t max_entries =
       std::clamp<std::size_t>(constant_bytes_ / 4 / std::max<std::size_t>(entry_bytes, 1), 1, CLR_MAX_PASS_DRAWS);
-  if (pass.entries.size() >= max_entries || draw.primitives > pass.plan.chunk_primitives - pass.primitives) {
-    return false;
-  }
+  if (pass.entries.size() >= max_entries || draw.primitives > pass.plan.chunk_primitives - pass.primitives) return 0;
   PassEntry entry;
   entry.draw = &draw;
   entry.instance = instance;
@@ -313,13 +317,16 @@ bool Pipeline::add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instan
     entry.slot_count = stream.slot_count;
   }
   // Whole groups of slots each (block culling).
-  const std::uint64_t slots = code_groups(entry.slot_count) * CLR_CODE_GROUP_SLOTS;
-  if (slots > pass.slot_capacity - pass.slots) return false;
-  pass.slots += static_cast<std::uint32_t>(slots);
-  pass.primitives += draw.primitives;
+  entry.instance_slots = static_cast<std::uint32_t>(code_groups(entry.slot_count) * CLR_CODE_GROUP_SLOTS);
+  entry.instances = static_cast<std::uint32_t>(
+      std::min<std::uint64_t>({count, (pass.plan.chunk_primitives - pass.primitives) / draw.primitives,
+                               (pass.slot_capacity - pass.slots) / entry.instance_slots}));
+  if (entry.instances == 0) return 0;
+  pass.slots += entry.instances * entry.instance_slots;
+  pass.primitives += entry.instances * draw.primitives;
   pass.culls_blocks = pass.culls_blocks || entry.slots.shade_all;
   pass.entries.push_back(entry);
-  return true;
+  return entry.instances;
 }
 
 void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawStats& stats) {
@@ -384,18 +391,26 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
     if (shade_all && stages.vertex.ands_group_codes()) {
       queue_.set_stage(cl_host::Stage::Vertex);
       cl_host::fill(queue_, group_codes, ~cl_uint{0}, entry.slots.slot_base / CLR_CODE_GROUP_SLOTS * sizeof(cl_uint),
-                    code_groups(entry.slot_count) * sizeof(cl_uint));
+                    std::size_t{entry.instances} * entry.instance_slots / CLR_CODE_GROUP_SLOTS * sizeof(cl_uint));
     }
-    stages.vertex.run(queue_, {&b, entry.slots, entry.main_count, entry.slot_count, shaded, group_codes});
+    stages.vertex.run(queue_, {.draw = &b, .slots = entry.slots, .main_count = entry.main_count,
+                               .slot_count = entry.slot_count, .instances = entry.instances,
+                               .instance_slots = entry.instance_slots, .shaded = shaded, .group_codes = group_codes});
     cl::Buffer culled_blocks = placeholder_;
     if (shade_all) {
-      const std::uint32_t block_count = chunk_blocks(draw.primitives) - 2 + (draw.primitives % CLR_CULL_BLOCK_PRIMITIVES != 0);
-      culled_blocks = scratch_.get(Scratch::CulledBlocks, block_count);
-      stages.setup.run_cull(queue_, {0, block_count, block_index_ranges(draw),
-                                     entry.slots.slot_base - entry.slots.origin, group_codes, culled_blocks});
+      const auto block_count = static_cast<std::uint32_t>(cl_host::divide_round_up(draw.primitives, CLR_CULL_BLOCK_PRIMITIVES));
+      culled_blocks = scratch_.get(Scratch::CulledBlocks, std::size_t{block_count} * entry.instances);
+      stages.setup.run_cull(queue_, {.first_block = 0, .block_count = block_count,
+                                     .index_ranges = block_index_ranges(draw),
+                                     .slot_offset = entry.slots.slot_base - entry.slots.origin,
+                                     .instances = entry.instances, .instance_slots = entry.instance_slots,
+                                     .group_codes = group_codes, .culled = culled_blocks});
     }
-    stages.setup.run(queue_, {&b, entry.slots, shaded, 0, draw.primitives, shade_all, culled_blocks, entry.record_base,
-                              records, bin_boxes, pair_offsets, clipped_offsets});
+    stages.setup.run(queue_, {.draw = &b, .slots = entry.slots, .shaded = shaded, .primitive_begin = 0,
+                              .primitive_count = draw.primitives, .instances = entry.instances,
+                              .instance_slots = entry.instance_slots, .block_culling = shade_all,
+                              .culled_blocks = culled_blocks, .record_base = entry.record_base, .records = records,
+                              .bin_boxes = bin_boxes, .pair_counts = pair_offsets, .clipped_counts = clipped_offsets});
   }
 
   // Where each primitive's bin pairs go, and, in the same read, whether any was clipped or dropped.
@@ -415,11 +430,8 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
     // pass's geometry is dropped, and its entries rendered alone, chunk by chunk, which split where
     // they must.
     cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
-    for (std::size_t k = 0; k < entries;) {
-      std::size_t end = k + 1;
-      while (end < entries && pass.entries[end].draw == pass.entries[k].draw) ++end;
-      draw_chunked(target, *pass.entries[k].draw, pass.entries[k].instance, pass.entries[end - 1].instance + 1, stats);
-      k = end;
+    for (const PassEntry& entry : pass.entries) {
+      draw_chunked(target, *entry.draw, entry.instance, entry.instance + entry.instances, stats);
     }
     return;
   }
@@ -429,8 +441,10 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
   if (clipped > 0) {
     for (std::size_t k = 0; k < entries; ++k) {
       const PassEntry& entry = pass.entries[k];
-      stages.setup.run_clipped(queue_, {&buffers[k], entry.slots, shaded, 0, entry.draw->primitives,
-                                        entry.record_base, clipped_offsets, overflow});
+      stages.setup.run_clipped(queue_, {.draw = &buffers[k], .slots = entry.slots, .shaded = shaded, .primitive_begin = 0,
+                                        .primitive_count = entry.draw->primitives, .instances = entry.instances,
+                                        .instance_slots = entry.instance_slots, .record_base = entry.record_base,
+                                        .clipped_offsets = clipped_offsets, .overflow = overflow});
     }
   }
   ++stats.chunks;
@@ -500,9 +514,9 @@ void Pipeline::draw_chunked(const RenderTarget& target, const FrameDraw& draw, s
         cl_host::fill(queue_, chunked.group_codes, ~cl_uint{0}, 0, code_groups(draw.vertex_count) * sizeof(cl_uint));
       }
       source.stages->vertex.run(
-          queue_, {&buffers, SlotMap{1, 0, 0, 0}, 0, static_cast<std::uint32_t>(draw.vertex_count),
-                   scratch_.get(Scratch::ShadedVertices, draw.vertex_count * chunked.shaded_vertex_bytes),
-                   chunked.group_codes});
+          queue_, {.draw = &buffers, .slots = SlotMap{1, 0, 0, 0}, .slot_count = static_cast<std::uint32_t>(draw.vertex_count),
+                   .shaded = scratch_.get(Scratch::ShadedVertices, draw.vertex_count * chunked.shaded_vertex_bytes),
+                   .group_codes = chunked.group_codes});
     }
     for (std::uint32_t begin = 0; begin < draw.primitives;) {
       begin += run_chunk(chunked, begin, std::min(chunked.plan.chunk_primitives, draw.primitives - begin), stats);
@@ -523,7 +537,8 @@ std::uint32_t Pipeline::run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std
     const StreamRange range = stream_range(draw.topology, begin, count);
     shaded = scratch_.get(Scratch::ShadedVertices, std::size_t{range.slot_count} * chunked.shaded_vertex_bytes);
     slots = {0, range.begin, range.count, 0};
-    draw.source->stages->vertex.run(queue_, {chunked.buffers, slots, range.count, range.slot_count, shaded, placeholder_});
+    draw.source->stages->vertex.run(queue_, {.draw = chunked.buffers, .slots = slots, .main_count = range.count,
+                                             .slot_count = range.slot_count, .shaded = shaded, .group_codes = placeholder_});
   }
 
   // Set-up: a record per primitive, and for primitives that cross a clip plane the number of
@@ -541,10 +556,14 @@ std::uint32_t Pipeline::run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std
     const std::uint32_t first_block = begin / CLR_CULL_BLOCK_PRIMITIVES;
     const std::uint32_t block_count = (begin + count - 1) / CLR_CULL_BLOCK_PRIMITIVES - first_block + 1;
     culled_blocks = scratch_.get(Scratch::CulledBlocks, block_count);
-    stages.setup.run_cull(queue_, {first_block, block_count, chunked.block_ranges, 0, chunked.group_codes, culled_blocks});
+    stages.setup.run_cull(queue_, {.first_block = first_block, .block_count = block_count,
+                                   .index_ranges = chunked.block_ranges, .group_codes = chunked.group_codes,
+                                   .culled = culled_blocks});
   }
-  stages.setup.run(queue_, {chunked.buffers, slots, shaded, begin, count, chunked.plan.shade_all_vertices, culled_blocks, 0,
-                            records, bin_boxes, pair_offsets, clipped_offsets});
+  stages.setup.run(queue_, {.draw = chunked.buffers, .slots = slots, .shaded = shaded, .primitive_begin = begin,
+                            .primitive_count = count, .block_culling = chunked.plan.shade_all_vertices,
+                            .culled_blocks = culled_blocks, .records = records, .bin_boxes = bin_boxes,
+                            .pair_counts = pair_offsets, .clipped_counts = clipped_offsets});
 
   // Where each primitive's bin pairs go, and, in the same read, whether any primitive was clipped.
   scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
@@ -568,7 +587,8 @@ std::uint32_t Pipeline::run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std
   const cl::Buffer overflow =
       scratch_.get(Scratch::OverflowRecords, std::max<std::size_t>(clipped, 1) * chunked.setup_triangle_bytes);
   if (clipped > 0) {
-    stages.setup.run_clipped(queue_, {chunked.buffers, slots, shaded, begin, count, 0, clipped_offsets, overflow});
+    stages.setup.run_clipped(queue_, {.draw = chunked.buffers, .slots = slots, .shaded = shaded, .primitive_begin = begin,
+                                      .primitive_count = count, .clipped_offsets = clipped_offsets, .overflow = overflow});
   }
 
   if (pairs == kSaturated) {

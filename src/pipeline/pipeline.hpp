@@ -121,14 +121,16 @@ class Pipeline {
   parallel::RadixSort& sort() { return sort_; }
 
  private:
-  // One entry of a pass: an instance of a draw, with where its vertices and triangles go.
+  // One entry of a pass: instances of a draw, with where their vertices and triangles go.
   struct PassEntry {
     const FrameDraw* draw = nullptr;
-    std::uint32_t instance = 0;
-    SlotMap slots{};
+    std::uint32_t instance = 0;     // the first
+    std::uint32_t instances = 0;
+    SlotMap slots{};                // the first instance's
     std::uint32_t main_count = 0;   // stream slots before a fan's centre (vertex.cl)
-    std::uint32_t slot_count = 0;   // slots the vertex stage fills, from slots.slot_base
-    std::uint32_t record_base = 0;  // its primitives' first entry in the pass's records
+    std::uint32_t slot_count = 0;   // slots the vertex stage fills per instance, from slots.slot_base
+    std::uint32_t instance_slots = 0;  // slot_count in whole groups (block culling): one instance's room
+    std::uint32_t record_base = 0;  // its first primitive's entry in the pass's records
   };
   struct Pass {
     MemoryPlan plan;
@@ -176,10 +178,11 @@ class Pipeline {
   // The index range of each block of the draw's primitives, from the index buffer's cache.
   const cl::Buffer& block_index_ranges(const FrameDraw& draw);
 
-  // Whether `entry_draw` may join `pass` (same program, textures and raster state), and where its
-  // instance's slots and records would go; false when the pass has no room left for it.
+  // Whether `draw` may join `pass` (same program, textures and raster state).
   bool shares_raster_pass(const Pass& pass, const FrameDraw& draw) const;
-  bool add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instance) const;
+  // Adds as many of `draw`'s instances from `instance` on as the pass has room for, up to `count`;
+  // returns how many (0: none fit).
+  std::uint32_t add_entry(Pass& pass, const FrameDraw& draw, std::uint32_t instance, std::uint32_t count) const;
   // The pass plan for draws of `primitives` in all (at most CLR_MAX_CHUNK_PRIMITIVES at a time).
   Pass start_pass(const RenderTarget& target, const FrameDraw& draw, std::uint64_t primitives) const;
   void render_pass(const RenderTarget& target, const Pass& pass, DrawStats& stats);

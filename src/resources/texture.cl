@@ -131,10 +131,17 @@ static float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) 
 
 /* ---- Level of detail and mipmapping (sections 8.14.1, 8.14.3) --------------------------------------------- */
 
+/* A texture of one texel (a material's white texture, a constant colour) samples as that texel
+ * whatever the coordinates, filters and level of detail: every tap is it, and the lerps of equal
+ * texels give exactly their value (weights that are NaN are made 0 first). Samplers return it at
+ * once, without derivatives or filtering. */
+static inline bool clr_texture_is_one_texel(clr_texture t) { return t.desc->width == 1 && t.desc->height == 1; }
+
 /* Samples with lambda_base, the unbiased, unclamped level of detail. NaN anywhere picks a level the
  * texture has, never an out-of-range one. */
 static float4 clr_sample_lambda(clr_texture t, float2 uv, float lambda_base) {
   __constant const TextureDesc* desc = t.desc;
+  if (clr_texture_is_one_texel(t)) return clr_load_texel_float(desc->format, t.data, desc->level_offset[0]);
   const float bias = clamp(desc->lod_bias, -CLR_MAX_TEXTURE_LOD_BIAS, CLR_MAX_TEXTURE_LOD_BIAS);
   const float lambda = fmin(fmax(lambda_base + bias, desc->min_lod), desc->max_lod);
   if (lambda <= 0.0f) return clr_filter_level(t, uv, 0, desc->mag_filter);

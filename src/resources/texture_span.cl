@@ -151,6 +151,10 @@ static void clr_span_filter_levels(clr_texture t, clr_span_float2 uv, clr_span_i
 static void clr_span_sample_lambda(clr_texture t, clr_span_float2 uv, clr_span_float lambda_base,
                                    clr_span_float4* result) {
   __constant const TextureDesc* desc = t.desc;
+  if (clr_texture_is_one_texel(t)) {
+    clr_span_load_texels(t, (clr_span_uint)(desc->level_offset[0]), result);
+    return;
+  }
   const float bias = clamp(desc->lod_bias, -CLR_MAX_TEXTURE_LOD_BIAS, CLR_MAX_TEXTURE_LOD_BIAS);
   const clr_span_float lambda = fmin(fmax(lambda_base + bias, desc->min_lod), desc->max_lod);
   const clr_span_int magnified = lambda <= 0.0f; /* level 0, the magnification filter */

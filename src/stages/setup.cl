@@ -96,22 +96,38 @@ static inline uint outside_of_groups(__global const uint* group_codes, uint firs
 /* Block culling (clr_limits.h): block first_block + j of the draw's primitives is outside a clip
  * plane or viewport side where every group of vertex slots in its index ranges is (the vertex
  * stage's group_codes, the ranges from block_index_ranges, index i in slot i + slot_offset), and
- * culled[j] is then 1, else 0. One work-item per block of a chunk. */
+ * culled[j] is then 1, else 0. One work-item per block of a chunk, for each instance (the second
+ * dimension: instance k's slots instance_slots further on, its verdicts block_count further). */
 __kernel void cull_blocks(uint first_block, uint block_count, __global const uint4* index_ranges, uint slot_offset,
-                          __global const uint* group_codes, __global uchar* culled) {
+                          uint instance_slots, __global const uint* group_codes, __global uchar* culled) {
   const uint j = get_global_id(0);
   if (j >= block_count) return;
+  const uint instance = get_global_id(1);
+  culled += instance * block_count;
+  slot_offset += instance * instance_slots;
   const uint4 ranges = index_ranges[first_block + j] + slot_offset; /* two, (x, y) and (z, w) */
   const uint outside = outside_of_groups(group_codes, ranges.z, ranges.w,
                                          outside_of_groups(group_codes, ranges.x, ranges.y, CLR_VERTEX_OUTSIDE));
   culled[j] = outside != 0;
 }
 
+/* The place of instance get_global_id(1) of a draw's chunk in a pass: its vertex slots
+ * instance_slots after the previous instance's, its primitives' entries primitive_count after. */
+static inline uint instance_record_base(uint record_base, uint primitive_count) {
+  return record_base + (uint)get_global_id(1) * primitive_count;
+}
+/* Changes a copy of the SlotMap argument, never the argument: PoCL passes a structure argument by
+ * reference to one copy that all work-items share, so that their changes added up (a crash). */
+static inline void move_to_instance(SlotMap* map, uint instance_slots) {
+  map->slot_base += (uint)get_global_id(1) * instance_slots;
+}
+
 /* culled_blocks: cull_blocks' verdicts for the chunk's blocks, where `block_culling`; a primitive of a
  * culled block is rejected without a look at its indices or vertices. The draws of a pass write
  * side by side: primitive i of this one at entry record_base + i of records, bin_boxes and the
- * counts. */
-__kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap slots,
+ * counts. The second dimension counts the instances (their slots, verdicts and entries one after
+ * the other). */
+__kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap slots, uint instance_slots,
                              __global const uchar* indices, __global const float4* shaded, int block_culling,
                              __global const uchar* culled_blocks, __constant const DrawUniforms* draws, uint draw,
                              uint record_base, __global SetupTriangle* records, __global uint2* bin_boxes,
@@ -119,11 +135,18 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
   const uint i = get_global_id(0);
   if (i >= primitive_count) return;
   __constant const DrawUniforms* const u = draws + draw;
+  SlotMap map = slots;
+  move_to_instance(&map, instance_slots);
+  record_base = instance_record_base(record_base, primitive_count);
+  /* Instances come in whole draws (primitive_begin 0): block_count of cull_blocks is the draw's blocks. */
+  culled_blocks += get_global_id(1) * ((primitive_count + CLR_CULL_BLOCK_PRIMITIVES - 1) / CLR_CULL_BLOCK_PRIMITIVES);
   records += record_base;
   bin_boxes += record_base;
   pair_counts += record_base;
   clipped_counts += record_base;
-  if (i == primitive_count - 1) { /* the extra entries, whose exclusive scans are the totals */
+  /* The extra entries after the last instance's, whose exclusive scans are the totals (an earlier
+   * instance's would be the next one's first). */
+  if (i == primitive_count - 1 && get_global_id(1) == get_global_size(1) - 1) {
     pair_counts[primitive_count] = 0;
     clipped_counts[primitive_count] = 0;
   }
@@ -136,7 +159,7 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
     return;
   }
   uint vertex_slots[3];
-  primitive_slots(primitive_begin + i, &slots, indices, u, vertex_slots);
+  primitive_slots(primitive_begin + i, &map, indices, u, vertex_slots);
   const uint2 codes = primitive_codes(shaded, vertex_slots);
   const uint planes = codes.x & CLR_VERTEX_OUTSIDE_PLANES;
   if (codes.x & CLR_VERTEX_NOT_FINITE) {
@@ -173,15 +196,18 @@ __kernel void triangle_setup(uint primitive_begin, uint primitive_count, SlotMap
 
 /* For the primitives triangle_setup counted clipped triangles for: the same clipping again, writing
  * them at the primitive's overflow offset. */
-__kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap slots, __global const uchar* indices,
-                            __global const float4* shaded, __constant const DrawUniforms* draws, uint draw,
-                            uint record_base, __global const uint* clipped_offsets, __global SetupTriangle* overflow) {
+__kernel void clipped_setup(uint primitive_begin, uint primitive_count, SlotMap slots, uint instance_slots,
+                            __global const uchar* indices, __global const float4* shaded,
+                            __constant const DrawUniforms* draws, uint draw, uint record_base,
+                            __global const uint* clipped_offsets, __global SetupTriangle* overflow) {
   const uint i = get_global_id(0);
-  clipped_offsets += record_base;
+  SlotMap map = slots;
+  move_to_instance(&map, instance_slots);
+  clipped_offsets += instance_record_base(record_base, primitive_count);
   if (i >= primitive_count || clipped_offsets[i] == clipped_offsets[i + 1]) return;
   __constant const DrawUniforms* const u = draws + draw;
   uint vertex_slots[3];
-  primitive_slots(primitive_begin + i, &slots, indices, u, vertex_slots);
+  primitive_slots(primitive_begin + i, &map, indices, u, vertex_slots);
   const uint planes = primitive_codes(shaded, vertex_slots).x & CLR_VERTEX_OUTSIDE_PLANES;
   ClipVertex triangle[CLR_MAX_CLIP_VERTICES];
   WindowVertex polygon[CLR_MAX_CLIP_VERTICES];

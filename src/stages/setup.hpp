@@ -16,6 +16,10 @@ struct SetupParams {
   cl::Buffer shaded;
   std::uint32_t primitive_begin = 0;  // primitive index within the draw
   std::uint32_t primitive_count = 0;
+  // Instances set up at once (whole draws only: primitive_begin 0), each instance_slots vertex slots,
+  // primitive_count entries and the draw's blocks of culled_blocks after the one before.
+  std::uint32_t instances = 1;
+  std::uint32_t instance_slots = 0;
   bool block_culling = false;
   cl::Buffer culled_blocks;   // cull_blocks' verdicts for the chunk's blocks (any buffer without block_culling)
   std::uint32_t record_base = 0;  // where primitive_begin's entries are in the four outputs
@@ -31,6 +35,8 @@ struct CullParams {
   std::uint32_t block_count = 0;
   cl::Buffer index_ranges;        // per block of the draw: its smallest and largest index
   std::uint32_t slot_offset = 0;  // index i is in vertex slot i + slot_offset
+  std::uint32_t instances = 1;    // as SetupParams'
+  std::uint32_t instance_slots = 0;
   cl::Buffer group_codes;         // per group of vertex slots: the clip planes all its vertices are outside
   cl::Buffer culled;              // out: per block of the chunk, 1 where culled
 };
@@ -42,6 +48,8 @@ struct ClippedSetupParams {
   cl::Buffer shaded;
   std::uint32_t primitive_begin = 0;
   std::uint32_t primitive_count = 0;
+  std::uint32_t instances = 1;  // as SetupParams'
+  std::uint32_t instance_slots = 0;
   std::uint32_t record_base = 0;  // where primitive_begin's offset is in clipped_offsets
   cl::Buffer clipped_offsets;  // primitive_count + 1 offsets into overflow
   cl::Buffer overflow;         // out: the clipped primitives' SetupTriangles

@@ -4,7 +4,8 @@
  * (clip.cl).
  *
  * Slots (SlotMap, types.h): a draw's slots start at slots.slot_base, so that the draws of one pass
- * keep their vertices side by side until set-up has read them. When the draw's index range is shaded
+ * keep their vertices side by side until set-up has read them. The second dimension of the range
+ * counts the instances from u->instance: instance i's slots are instance_slots further on. When the draw's index range is shaded
  * once, its slot slot_base + s holds vertex slots.origin + s. Otherwise (the range would take more
  * slots than the draw's stream positions, or the draw is not indexed) slot slot_base + s holds the
  * element at stream position origin + s, and for fans one extra slot, main_count, the fan's centre
@@ -18,13 +19,14 @@
  * in (group_codes filled with ones before). */
 
 __kernel void vertex_shade(__global const uchar* indices, SlotMap slots, uint main_count, uint slot_count,
-                           __constant const DrawUniforms* draws, uint draw, __global float4* shaded,
-                           __global uint* group_codes CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
+                           uint instance_slots, __constant const DrawUniforms* draws, uint draw,
+                           __global float4* shaded, __global uint* group_codes CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {
   __constant const DrawUniforms* const u = draws + draw;
   const uint first_local = get_global_id(0) * CLR_VERTEX_LANES;
   if (first_local >= slot_count) return;
   const uint lane_count = min((uint)CLR_VERTEX_LANES, slot_count - first_local);
-  const uint first_slot = slots.slot_base + first_local;
+  const uint instance = u->instance + (uint)get_global_id(1);
+  const uint first_slot = slots.slot_base + (uint)get_global_id(1) * instance_slots + first_local;
   __global float4* const first_out = shaded + (size_t)first_slot * CLR_SHADED_VERTEX_FLOAT4S;
 
   /* Lanes past the last slot keep (0, 0, 0, 1) and store nothing. */
@@ -38,8 +40,8 @@ __kernel void vertex_shade(__global const uchar* indices, SlotMap slots, uint ma
     }
     clr_vertex v = {0};
     v.vertex_id = vertex_index;
-    v.instance_id = u->instance;
-    CLR_FETCH_ATTRIBUTES(v.in, vertex_index, u->instance, draw);
+    v.instance_id = instance;
+    CLR_FETCH_ATTRIBUTES(v.in, vertex_index, instance, draw);
     v.position = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
     CLR_BIND_RESOURCES(v, draw);
     vertex(&v);

@@ -16,6 +16,8 @@ struct VertexParams {
   SlotMap slots{};                // where the draw's vertices go (types.h, vertex.cl)
   std::uint32_t main_count = 0;   // stream slots: the fan's centre is in slot main_count when slot_count exceeds it
   std::uint32_t slot_count = 0;   // from slots.slot_base
+  std::uint32_t instances = 1;    // from the draw's DrawUniforms::instance on, ...
+  std::uint32_t instance_slots = 0;  // ... each this many slots after the one before
   cl::Buffer shaded;
   cl::Buffer group_codes;  // when shade_all: each group of slots' clip codes (see ands_group_codes)
 };
