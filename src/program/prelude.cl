@@ -185,8 +185,6 @@ static __attribute__((overloadable)) inline clr_span_float4 clr_fwidth(clr_span_
  * clr_texture_levels work in any program (resources/texture.cl). In fragment programs clr_sample
  * picks the level of detail from the quad's derivatives of uv, as GLSL's texture() does. */
 static __attribute__((overloadable)) inline float4 clr_sample(clr_fragment* f, clr_texture texture, float2 uv) {
-  /* The same for every work-item of the tile: all of them skip the barriers, or none. */
-  if (clr_texture_is_one_texel(texture)) return clr_sample_lod(texture, uv, 0.0f);
   barrier(CLK_LOCAL_MEM_FENCE);
   f->clr_quad[f->clr_lane] = (float4)(uv, 0.0f, 0.0f);
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -202,7 +200,6 @@ static __attribute__((overloadable)) inline float4 clr_sample(clr_fragment* f, c
  * derivatives. */
 static __attribute__((overloadable)) inline clr_span_float4 clr_sample(clr_span_fragment* f, clr_texture texture,
                                                                        clr_span_float2 uv) {
-  if (clr_texture_is_one_texel(texture)) return clr_sample_lod(texture, uv, (clr_span_float)(0.0f));
   clr_span_float4 dx = {uv.x, uv.y, 0.0f, 0.0f}, dy = dx;
   clr_span_quad_difference(f, &dx, CLR_QUAD_X, true);
   clr_span_quad_difference(f, &dy, CLR_QUAD_Y, true);

@@ -134,7 +134,8 @@ static float4 clr_filter_level(clr_texture t, float2 uv, int level, int filter) 
 /* A texture of one texel (a material's white texture, a constant colour) samples as that texel
  * whatever the coordinates, filters and level of detail: every tap is it, and the lerps of equal
  * texels give exactly their value (weights that are NaN are made 0 first). Samplers return it at
- * once, without derivatives or filtering. */
+ * once, without filtering. (The derivatives before are still taken: skipping the quad exchange's
+ * barriers in some calls blew PoCL's build of a program sampling in every shape up past 5 GB.) */
 static inline bool clr_texture_is_one_texel(clr_texture t) { return t.desc->width == 1 && t.desc->height == 1; }
 
 /* Samples with lambda_base, the unbiased, unclamped level of detail. NaN anywhere picks a level the
