@@ -134,7 +134,7 @@ struct LeanPart {
   std::array<float, 4> color{1, 1, 1, 1};
 };
 
-enum class LeanShading { Normal, Overdraw, Material };
+enum class LeanShading { Normal, Overdraw, Material, Instanced };
 
 struct LeanSceneData {
   io::Mesh mesh;
@@ -144,6 +144,7 @@ struct LeanSceneData {
   Mat4 mvp{};
   frontend::ProgramInputs view;  // the material program's uniforms
   std::optional<Image> texture;  // the material's, rows from the top; none: one white texel
+  std::vector<float> instances;  // an instanced scene's placements (bench::Scene::instances)
 };
 
 // Feeds attribute `location` (none when -1: the program does not use it) from a new buffer, which it returns.
@@ -200,6 +201,7 @@ class LeanScene {
       case LeanShading::Material:
         program_ = link(frontend::kGlMaterialVertexShader, frontend::kGlMaterialFragmentShader);
         break;
+      case LeanShading::Instanced: program_ = link(bench::kGlInstancedVertexShader, bench::kGlInstancedFragmentShader); break;
     }
     const GLuint program = program_;
     glUseProgram(program);
@@ -229,6 +231,10 @@ class LeanScene {
     glCreateBuffers(1, &buffers_[3]);
     glNamedBufferStorage(buffers_[3], GLsizeiptr(scene.mesh.indices.size() * 4), scene.mesh.indices.data(), 0);
     glVertexArrayElementBuffer(vertex_array_, buffers_[3]);
+    const GLint placement = glGetAttribLocation(program, "placement");
+    buffers_[4] = upload_attribute(vertex_array_, placement, scene.instances, 4);
+    if (placement >= 0) glVertexArrayBindingDivisor(vertex_array_, GLuint(placement), 1);
+    instance_count_ = scene.instances.empty() ? 1 : GLsizei(scene.instances.size() / 4);
     glBindVertexArray(vertex_array_);
 
     // Both ways: the scenes before this one drew in the same context.
@@ -247,7 +253,7 @@ class LeanScene {
     glDeleteRenderbuffers(2, renderbuffers_);
     glDeleteProgram(program_);
     glDeleteVertexArrays(1, &vertex_array_);
-    glDeleteBuffers(4, buffers_);
+    glDeleteBuffers(5, buffers_);
     glDeleteTextures(1, &texture_);
   }
 
@@ -255,8 +261,8 @@ class LeanScene {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     for (const LeanPart& part : parts_) {
       if (color_location_ >= 0) glUniform4fv(color_location_, 1, part.color.data());
-      glDrawElements(GL_TRIANGLES, GLsizei(part.count), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(std::uintptr_t(part.first) * 4));
+      glDrawElementsInstanced(GL_TRIANGLES, GLsizei(part.count), GL_UNSIGNED_INT,
+                              reinterpret_cast<const void*>(std::uintptr_t(part.first) * 4), instance_count_);
     }
     glFinish();
   }
@@ -285,7 +291,8 @@ class LeanScene {
   GLuint renderbuffers_[2] = {};
   GLuint program_ = 0;
   GLuint vertex_array_ = 0;
-  GLuint buffers_[4] = {};  // positions, normals, texture coordinates, indices
+  GLuint buffers_[5] = {};  // positions, normals, texture coordinates, indices, instance placements
+  GLsizei instance_count_ = 1;
   GLuint texture_ = 0;
 };
 
@@ -320,6 +327,10 @@ SceneSetup make_setup(const std::string& name, int width, int height) {
         lean.texture = io::decode_image(image->encoded, name);
       }
     }
+  } else if (!scene.instances.empty()) {
+    lean.shading = LeanShading::Instanced;
+    lean.instances = scene.instances;
+    lean.parts = {{0, index_count, setup.state.base_color}};
   } else {
     const bool additive = setup.state.blend[0].enabled;
     lean.shading = additive ? LeanShading::Overdraw : LeanShading::Normal;

@@ -95,6 +95,14 @@ class GlScene {
   std::optional<oracle::GlMesh> mesh_;  // a scene with a built-in shading
   std::optional<io::Model> model_;      // or one with materials, drawn part by part
   std::optional<frontend::GlMaterialDraws> material_draws_;
+  // Or an instanced scene: its mesh and placements uploaded once, drawn with glDrawElementsInstanced.
+  struct Instanced {
+    Instanced(const Scene& scene, const Mat4& mvp, const DrawState& state);
+    oracle::GlProgram program;
+    oracle::GlVertexInput input;
+    oracle::GlDrawCall call;
+  };
+  std::optional<Instanced> instanced_;
 };
 
 // Has the process keep the memory it frees (runner.cpp says why); run_scene calls it.

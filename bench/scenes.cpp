@@ -9,6 +9,49 @@
 #include <optional>
 
 namespace clraster::bench {
+
+const char* const kInstancedProgram = R"(
+clr_attribute(float3, position)
+clr_attribute(float3, normal)
+clr_attribute(float4, placement)  /* per instance: x, y, z offset and scale */
+clr_varying(float3, object_normal)
+clr_uniform(float16, mvp)
+clr_output(float4, color)
+
+void vertex(clr_vertex* v) {
+  const float3 placed = v->in.position * v->in.placement.w + v->in.placement.xyz;
+  v->position = clr_mul(v->uniforms->mvp, (float4)(placed, 1.0f));
+  v->out.object_normal = v->in.normal;
+}
+
+void fragment_span(clr_span_fragment* f) {
+  const clr_span_float3 n = f->in.object_normal;
+  const clr_span_float length_of_normal = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  f->out.color.x = n.x / length_of_normal * 0.5f + 0.5f;
+  f->out.color.y = n.y / length_of_normal * 0.5f + 0.5f;
+  f->out.color.z = n.z / length_of_normal * 0.5f + 0.5f;
+  f->out.color.w = 1.0f;
+}
+)";
+
+const char* const kGlInstancedVertexShader = R"(#version 450 core
+in vec3 position;
+in vec3 normal;
+in vec4 placement;
+uniform mat4 mvp;
+out vec3 object_normal;
+void main() {
+  gl_Position = mvp * vec4(position * placement.w + placement.xyz, 1.0);
+  object_normal = normal;
+}
+)";
+
+const char* const kGlInstancedFragmentShader = R"(#version 450 core
+in vec3 object_normal;
+out vec4 color;
+void main() { color = vec4(normalize(object_normal) * 0.5 + 0.5, 1.0); }
+)";
+
 namespace {
 
 // The picture size the scenes are made for: models without a camera of their own are framed for it.
@@ -120,6 +163,23 @@ io::Model knot_in_parts() {
   return model;
 }
 
+// A sphere of 2 * 32 * 20 triangles (its poles' rings are triangles, not quads).
+io::Model instanced_sphere() { return model_of(io::make_sphere(32, 21, 1.0f)); }
+
+// A 64 x 64 grid of spheres of radius 0.035 over the plane z = 0, every other one a little larger.
+std::vector<float> sphere_grid() {
+  constexpr int kSide = 64;
+  std::vector<float> placements;
+  for (int row = 0; row < kSide; ++row) {
+    for (int column = 0; column < kSide; ++column) {
+      const float x = -3.0f + 6.0f * (float(column) + 0.5f) / kSide;
+      const float y = -2.0f + 4.0f * (float(row) + 0.5f) / kSide;
+      placements.insert(placements.end(), {x, y, 0.0f, (row + column) % 2 ? 0.04f : 0.035f});
+    }
+  }
+  return placements;
+}
+
 // assimp's engine as the command line loads it.
 io::Model engine() {
   std::vector<std::string> warnings;
@@ -139,6 +199,7 @@ struct SceneDefinition {
   std::optional<io::Camera> camera;
   io::BuiltinShading shading = io::BuiltinShading::Normal;  // for scenes without parts
   const char* model_file = nullptr;                         // for a scene loaded from a file
+  std::vector<float> (*instances)() = nullptr;              // for an instanced scene
 };
 
 // A missing model file is an error, not a scene left out: a run that quietly drew fewer scenes
@@ -170,6 +231,8 @@ const std::vector<SceneDefinition>& definitions() {
       {"textured-50k", textured_knot, knot_view},
       {"materials-256", knot_in_parts, knot_view},
       {"engine-glb", engine, std::nullopt, BuiltinShading::Normal, kEngineModel},
+      {"instanced-4k", instanced_sphere, camera({0.0f, -2.6f, 3.6f}, {0.0f, -0.2f, 0.0f}, 45, 1.0f, 10.0f),
+       BuiltinShading::Normal, nullptr, sphere_grid},
   };
   return scenes;
 }
@@ -222,6 +285,7 @@ Scene make_scene(const std::string& name) {
   const SceneDefinition& defined = definition(name);
   require_model_file(defined);
   Scene scene{defined.name, defined.model(), {}, defined.shading};
+  if (defined.instances) scene.instances = defined.instances();
   scene.camera = defined.camera ? *defined.camera : io::fit_camera(io::bounding_sphere(scene.model), kDesignAspect);
   return scene;
 }

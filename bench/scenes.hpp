@@ -21,6 +21,9 @@
 //   engine-glb  assimp's 2CylinderEngine.glb (package assimp-testmodels; 121,496 triangles in 108
 //               parts, one per mesh and node), framed as `render` frames a model by default at
 //               1920x1080; material colours, depth test
+//   instanced-4k  a sphere of 1,280 triangles drawn 4,096 times in one instanced draw (5,242,880
+//               triangles), a 64 x 64 grid of them seen from above at an angle, each placed and
+//               sized by a per-instance attribute; normal shading, depth test
 #pragma once
 
 #include <string>
@@ -41,15 +44,28 @@ struct Scene {
   io::Camera camera;
   // How a scene without parts is drawn, in one draw.
   io::BuiltinShading shading = io::BuiltinShading::Normal;
+  // An instanced scene's placements, four floats an instance: x, y, z and a scale. Its model is
+  // drawn once, instanced, with the instancing program (kInstancedProgram: normal shading of the
+  // placed mesh).
+  std::vector<float> instances;
 
   // A scene with parts is drawn with the material program instead of with `shading`, a draw per
   // part.
   bool draws_materials() const { return !model.parts.empty(); }
   std::size_t draw_count() const { return draws_materials() ? model.parts.size() : 1; }
+  std::uint32_t instance_count() const { return instances.empty() ? 1 : static_cast<std::uint32_t>(instances.size() / 4); }
+  std::uint64_t triangle_count() const { return model.triangle_count() * instance_count(); }
 
   // The fixed-function state of every draw for a width x height picture.
   DrawState state(int width, int height) const;
 };
+
+// The instancing program of instanced scenes, in OpenCL C for clraster and in GLSL for OpenGL:
+// attributes position, normal and the per-instance placement (vec4: x, y, z offset, scale), uniform
+// mvp; the colour is normal shading's, normalize(normal) * 0.5 + 0.5.
+extern const char* const kInstancedProgram;
+extern const char* const kGlInstancedVertexShader;
+extern const char* const kGlInstancedFragmentShader;
 
 // Every scene's name, in the order the benchmark runs them, and the same as one "a, b, c" text.
 const std::vector<std::string>& scene_names();

@@ -45,7 +45,7 @@ double coverage(const Image& image) {
 
 TEST(BenchScenes, NamesInTheirOrder) {
   EXPECT_EQ(scene_names(), (std::vector<std::string>{"model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
-                                                     "textured-50k", "materials-256", "engine-glb"}));
+                                                     "textured-50k", "materials-256", "engine-glb", "instanced-4k"}));
   EXPECT_EQ(parse_scene_list(""), scene_names());
   EXPECT_EQ(parse_scene_list("tiny-1m,model-50k"), (std::vector<std::string>{"tiny-1m", "model-50k"}));
   for (const char* list : {"teapot", "model-50k,teapot", "model-50k,", "Model-50k"}) {
@@ -55,7 +55,7 @@ TEST(BenchScenes, NamesInTheirOrder) {
     } catch (const InvalidArgument& error) {
       EXPECT_PRED_FORMAT2(::testing::IsSubstring,
                           "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m, textured-50k, "
-                          "materials-256, engine-glb)",
+                          "materials-256, engine-glb, instanced-4k)",
                           error.what());
     }
   }
@@ -76,9 +76,9 @@ TEST_P(BenchSceneTriangles, AreTheAdvertisedCountInTheAdvertisedDraws) {
   const AdvertisedCount& count = GetParam();
   const Scene& built = scene(count.name);
   EXPECT_EQ(built.name, count.name);
-  EXPECT_EQ(built.model.triangle_count(), count.triangles);
-  EXPECT_GE(built.model.triangle_count(), count.at_least);
-  EXPECT_LE(built.model.triangle_count(), count.at_most);
+  EXPECT_EQ(built.triangle_count(), count.triangles);
+  EXPECT_GE(built.triangle_count(), count.at_least);
+  EXPECT_LE(built.triangle_count(), count.at_most);
   EXPECT_EQ(built.draw_count(), count.draws);
   EXPECT_EQ(built.draws_materials(), !built.model.parts.empty());
   // The parts, in index order, cover every triangle once.
@@ -101,7 +101,8 @@ INSTANTIATE_TEST_SUITE_P(
                       AdvertisedCount{"tiny-1m", 2 * 1024 * 512, 1'000'000, 1'100'000, 1},
                       AdvertisedCount{"textured-50k", 2 * 500 * 50, 45'000, 55'000, 1},
                       AdvertisedCount{"materials-256", 2 * 500 * 50, 45'000, 55'000, 256},
-                      AdvertisedCount{"engine-glb", 121'496, 100'000, 150'000, 108}),
+                      AdvertisedCount{"engine-glb", 121'496, 100'000, 150'000, 108},
+                      AdvertisedCount{"instanced-4k", 4096 * 1280, 5'000'000, 5'300'000, 1}),
     [](const auto& info) {
       std::string name = info.param.name;
       std::replace(name.begin(), name.end(), '-', '_');
@@ -265,6 +266,21 @@ TEST_P(BenchManyDraws, AreDrawnAsLlvmpipeDrawsThem) {
   EXPECT_TRUE(test::images_match(run.clraster_picture, run.gl_picture, kTolerance));  // leaves the pictures
   EXPECT_GT(coverage(run.clraster_picture), 0.1);
   EXPECT_FALSE(touches_edges(run.clraster_picture));
+}
+
+// instanced-4k: one instanced draw of a 1,280-triangle sphere, 4,096 placements of a 64 x 64 grid,
+// drawn as llvmpipe draws it (glDrawElementsInstanced) and filling most of the picture.
+TEST(BenchScenes, InstancedSpheresAreDrawnAsLlvmpipeDrawsThem) {
+  const Scene& spheres = scene("instanced-4k");
+  EXPECT_EQ(spheres.model.triangle_count(), 1280u);
+  EXPECT_EQ(spheres.instance_count(), 4096u);
+  EXPECT_FALSE(spheres.draws_materials());
+  const SceneRun run = run_small(spheres);
+  EXPECT_EQ(run.result.triangles, 4096u * 1280u);
+  EXPECT_TRUE(run.result.passed) << "coverage mismatch " << run.result.comparison.coverage_mismatch
+                                 << ", colour mismatch " << run.result.comparison.colour_mismatch;
+  EXPECT_TRUE(test::images_match(run.clraster_picture, run.gl_picture, kTolerance));  // leaves the pictures
+  EXPECT_GT(coverage(run.clraster_picture), 0.3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, BenchManyDraws, ::testing::Values("materials-256", "engine-glb"),

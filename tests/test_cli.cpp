@@ -142,7 +142,7 @@ TEST(CliInterface, BenchHelpNamesEveryOptionAndScene) {
   EXPECT_TRUE(succeeded(result));
   for (const char* option : {"--scenes", "--size", "--frames", "--json", "--device", "--memory-cap", "--tile-size",
                              "--pictures", "model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
-                             "textured-50k", "materials-256", "engine-glb"}) {
+                             "textured-50k", "materials-256", "engine-glb", "instanced-4k"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
