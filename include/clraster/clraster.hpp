@@ -589,7 +589,7 @@ struct StageTimes {
 struct DrawStats {
   std::uint64_t triangles = 0;            // primitives assembled from the input (all instances)
   std::uint64_t triangles_dropped = 0;    // of those, dropped for non-finite clip coordinates
-  std::uint64_t chunks = 0;               // pieces the draw was split into to stay under the memory cap
+  std::uint64_t chunks = 0;               // passes of draws through the stages, and chunks of draws too large for one
   std::uint64_t tile_triangle_pairs = 0;  // (tile, triangle) bin entries rasterized
   std::uint64_t peak_memory_bytes = 0;    // largest total of intermediate buffers held, so far, by the context
   StageTimes stage_times;
