@@ -8,6 +8,7 @@
 
 /* ---- Framebuffers and viewports ------------------------------------------------------------ */
 #define CLR_MAX_FRAMEBUFFER_SIZE 16384 /* pixels per side */
+#define CLR_MAX_LAYERS 4096 /* layers of a layered framebuffer: views of a draw (4096 fit 12 bits of a triangle's flags) */
 #define CLR_MAX_VIEWPORT_OFFSET 32768  /* |viewport x|, |viewport y| (GL_VIEWPORT_BOUNDS_RANGE) */
 
 /* ---- Fixed-point rasterization ---------------------------------------------------------------

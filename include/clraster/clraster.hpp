@@ -562,6 +562,14 @@ struct VertexAttribute {
 
 inline constexpr std::uint32_t kAllElements = 0xffffffffu;
 
+// What one view of a draw into a layered framebuffer changes: the camera of the built-in programs,
+// or a Program's uniforms. View k is drawn into layer k, and programs see k as view_id.
+struct View {
+  Mat4 model_view = kIdentity;         // built-in programs: in place of DrawState::model_view ...
+  Mat4 projection = kIdentity;         // ... and DrawState::projection (ignored with a Program)
+  const Bindings* bindings = nullptr;  // a Program's bindings for this view (null: the draw's own)
+};
+
 // One draw: which program, buffers and bindings, which part of the buffers, and the state.
 struct DrawCall {
   const VertexBuffer* vertices = nullptr;  // supplies the attributes "position" and "normal"
@@ -575,6 +583,9 @@ struct DrawCall {
   const Bindings* bindings = nullptr;      // the program's uniforms, textures and buffers
   std::vector<VertexAttribute> attributes; // further attributes (or all of them, without `vertices`)
   std::uint32_t instance_count = 1;
+  // One per layer of the framebuffer, or none: then every layer is drawn with the draw's own state
+  // and bindings (view_id still counts the layers). The viewport and scissor are within each layer.
+  std::vector<View> views;
 };
 
 // Device time spent in each stage of a draw, in milliseconds (zero unless ContextOptions::profile).
@@ -608,14 +619,22 @@ class Framebuffer {
   // 0..8, formats may differ; depth_stencil may be null (then depth and stencil tests pass and
   // write nothing).
   Framebuffer(Context& context, std::vector<Texture*> colors, Texture* depth_stencil);
+  // A layered framebuffer: `layers` (1..4096) pictures of width x height pixels, which a
+  // draw renders together, one view each (DrawCall::views). Its RGBA8 and Depth32FStencil8
+  // attachments hold the layers side by side: layer l at layer_rect(l), in rows of layer_columns()
+  // (the smallest square grid), each side of the attachment at most 16384 pixels.
+  Framebuffer(Context& context, int width, int height, int layers);
   ~Framebuffer();
   Framebuffer(Framebuffer&&) noexcept;
   Framebuffer& operator=(Framebuffer&&) noexcept;
 
-  int width() const;
+  int width() const;   // of a layer
   int height() const;
+  int layers() const;  // 1 unless layered
+  int layer_columns() const;
+  Rect layer_rect(int layer) const;     // where a layer is in the attachments, window coordinates
   int color_count() const;
-  Texture& color(int index = 0);        // the attachment itself (render-to-texture)
+  Texture& color(int index = 0);        // the attachment itself (render-to-texture), every layer
   Texture* depth_stencil();             // null when there is none
 
   // Clears every colour attachment (normalized and float ones to `color`; integer ones to the
@@ -638,11 +657,11 @@ class Framebuffer {
   // small draws cost about what one draw of all their triangles costs. The statistics are the frame's.
   DrawStats draw(std::span<const DrawCall> calls);
 
-  // Colour attachment `index` converted to RGBA8 (normalized formats only; missing channels read as
-  // 0, alpha as 1), rows top to bottom.
-  Image read_color(int index = 0) const;
-  std::vector<float> read_depth() const;           // rows top to bottom, width * height values
-  std::vector<std::uint8_t> read_stencil() const;  // rows top to bottom
+  // Colour attachment `index` of `layer` converted to RGBA8 (normalized formats only; missing
+  // channels read as 0, alpha as 1), rows top to bottom.
+  Image read_color(int index = 0, int layer = 0) const;
+  std::vector<float> read_depth(int layer = 0) const;           // rows top to bottom, width * height values
+  std::vector<std::uint8_t> read_stencil(int layer = 0) const;  // rows top to bottom
 
   struct Impl;
   Impl& impl() const { return *impl_; }

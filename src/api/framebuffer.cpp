@@ -37,14 +37,31 @@ void record_color_clear(const Texture::Impl& texture, std::array<Channel, 4> val
 
 }  // namespace
 
-Framebuffer::Framebuffer(Context& context, int width, int height) : impl_(std::make_unique<Impl>()) {
+Framebuffer::Framebuffer(Context& context, int width, int height) : Framebuffer(context, width, height, 1) {}
+
+Framebuffer::Framebuffer(Context& context, int width, int height, int layers) : impl_(std::make_unique<Impl>()) {
   check_size(width, height);
+  if (layers < 1 || layers > CLR_MAX_LAYERS) {
+    throw InvalidArgument("a framebuffer has 1.." + std::to_string(CLR_MAX_LAYERS) + " layers, not " + std::to_string(layers));
+  }
+  // The smallest square grid that holds the layers.
+  int columns = 1;
+  while (columns * columns < layers) ++columns;
+  const int rows = (layers + columns - 1) / columns;
+  if (std::int64_t{width} * columns > CLR_MAX_FRAMEBUFFER_SIZE || std::int64_t{height} * rows > CLR_MAX_FRAMEBUFFER_SIZE) {
+    throw InvalidArgument(std::to_string(layers) + " layers of " + std::to_string(width) + "x" + std::to_string(height) +
+                          " need attachments of " + std::to_string(std::int64_t{width} * columns) + "x" +
+                          std::to_string(std::int64_t{height} * rows) + " pixels, more than " +
+                          std::to_string(CLR_MAX_FRAMEBUFFER_SIZE) + " per side");
+  }
   impl_->state = context.impl().state;
   impl_->width = width;
   impl_->height = height;
+  impl_->layers = layers;
+  impl_->layer_columns = columns;
   impl_->owned.reserve(2);
-  impl_->owned.emplace_back(context, width, height, Format::RGBA8);
-  impl_->owned.emplace_back(context, width, height, Format::Depth32FStencil8);
+  impl_->owned.emplace_back(context, width * columns, height * rows, Format::RGBA8);
+  impl_->owned.emplace_back(context, width * columns, height * rows, Format::Depth32FStencil8);
   impl_->colors = {&impl_->owned[0]};
   impl_->depth_stencil = &impl_->owned[1];
   clear({0, 0, 0, 1}, 1.0f, 0);
@@ -87,6 +104,17 @@ Framebuffer& Framebuffer::operator=(Framebuffer&&) noexcept = default;
 
 int Framebuffer::width() const { return impl_->width; }
 int Framebuffer::height() const { return impl_->height; }
+int Framebuffer::layers() const { return impl_->layers; }
+int Framebuffer::layer_columns() const { return impl_->layer_columns; }
+Rect Framebuffer::layer_rect(int layer) const { return impl_->layer_rect(layer); }
+
+Rect Framebuffer::Impl::layer_rect(int layer) const {
+  if (layer < 0 || layer >= layers) {
+    throw InvalidArgument("layer " + std::to_string(layer) + " does not exist: the framebuffer has " + std::to_string(layers));
+  }
+  return {layer % layer_columns * width, layer / layer_columns * height, width, height};
+}
+
 int Framebuffer::color_count() const { return static_cast<int>(impl_->colors.size()); }
 Texture* Framebuffer::depth_stencil() { return impl_->depth_stencil; }
 
@@ -177,7 +205,7 @@ void Framebuffer::clear_stencil(std::uint8_t stencil) {
   pending.stencil_value = stencil;
 }
 
-Image Framebuffer::read_color(int index) const {
+Image Framebuffer::read_color(int index, int layer) const {
   Texture& texture = const_cast<Framebuffer*>(this)->color(index);
   const FormatInfo& info = format_info(texture.format());
   if (info.integer || info.bytes_per_texel != info.channels) {
@@ -185,7 +213,7 @@ Image Framebuffer::read_color(int index) const {
                           std::to_string(index) + " is " + info.name + ": read it with color(" + std::to_string(index) +
                           ").read()");
   }
-  const std::vector<std::byte> texels = texture.read(0);
+  const std::vector<std::byte> texels = texture.impl().read_rect(impl_->layer_rect(layer));
   Image image;
   image.width = width();
   image.height = height();
@@ -202,22 +230,28 @@ Image Framebuffer::read_color(int index) const {
   return image;
 }
 
-std::vector<float> Framebuffer::read_depth() const {
+std::vector<float> Framebuffer::read_depth(int layer) const {
   if (impl_->depth_stencil == nullptr) throw InvalidArgument("the framebuffer has no depth attachment");
-  const std::vector<std::byte> texels = impl_->depth_stencil->read(0);
+  const Rect rect = impl_->layer_rect(layer);
+  const std::vector<std::byte> texels = impl_->depth_stencil->impl().read_rect(rect);
   std::vector<float> top_down(std::size_t(width()) * std::size_t(height()));
   flip_rows(texels.data(), std::size_t(width()) * sizeof(float), height(), reinterpret_cast<std::byte*>(top_down.data()));
   return top_down;
 }
 
-std::vector<std::uint8_t> Framebuffer::read_stencil() const {
+std::vector<std::uint8_t> Framebuffer::read_stencil(int layer) const {
   if (impl_->depth_stencil == nullptr || !format_info(impl_->depth_stencil->format()).stencil) {
     throw InvalidArgument("the framebuffer has no stencil attachment");
   }
+  const Rect rect = impl_->layer_rect(layer);
+  // The stencil plane is one byte a pixel: read whole, and the layer's rows taken from it.
   const std::vector<std::uint8_t> bottom_up = impl_->depth_stencil->read_stencil();
-  std::vector<std::uint8_t> top_down(bottom_up.size());
-  flip_rows(reinterpret_cast<const std::byte*>(bottom_up.data()), std::size_t(width()), height(),
-            reinterpret_cast<std::byte*>(top_down.data()));
+  const auto attachment_width = static_cast<std::size_t>(impl_->depth_stencil->width());
+  std::vector<std::uint8_t> top_down(std::size_t(width()) * std::size_t(height()));
+  for (int y = 0; y < height(); ++y) {
+    const std::uint8_t* row = bottom_up.data() + (std::size_t(rect.y) + std::size_t(y)) * attachment_width + std::size_t(rect.x);
+    std::copy(row, row + width(), top_down.begin() + static_cast<std::ptrdiff_t>(std::size_t(height() - 1 - y) * std::size_t(width())));
+  }
   return top_down;
 }
 

@@ -92,6 +92,8 @@ struct Texture::Impl {
   // Byte offset and size of a level's texels in `data`.
   std::size_t level_offset_bytes(int level) const;
   std::size_t level_bytes(int level) const;
+  // The texels of `rect` of level 0, rows from the bottom.
+  std::vector<std::byte> read_rect(const Rect& rect) const;
 };
 
 struct Program::Impl {
@@ -124,8 +126,11 @@ struct Framebuffer::Impl {
   std::vector<Texture> owned;                 // the attachments of Framebuffer(context, width, height)
   std::vector<Texture*> colors;
   Texture* depth_stencil = nullptr;
-  int width = 0;
+  int width = 0;   // of a layer
   int height = 0;
+  int layers = 1;
+  int layer_columns = 1;
+  Rect layer_rect(int layer) const;  // checked
 };
 
 }  // namespace clraster

@@ -320,6 +320,22 @@ std::vector<std::byte> Texture::read(int level) const {
   return texels;
 }
 
+std::vector<std::byte> Texture::Impl::read_rect(const Rect& rect) const {
+  const std::size_t texel = format_info(format).bytes_per_texel;
+  std::vector<std::byte> texels(static_cast<std::size_t>(rect.width) * static_cast<std::size_t>(rect.height) * texel);
+  translate_cl_errors([&] {
+    write_pending_clear();
+    const cl::array<cl::size_type, 3> buffer_origin{static_cast<std::size_t>(rect.x) * texel,
+                                                    static_cast<std::size_t>(rect.y), 0};
+    const cl::array<cl::size_type, 3> region{static_cast<std::size_t>(rect.width) * texel,
+                                             static_cast<std::size_t>(rect.height), 1};
+    state->queue.get().enqueueReadBufferRect(data, CL_TRUE, buffer_origin, {0, 0, 0}, region,
+                                             static_cast<std::size_t>(width) * texel, 0,
+                                             static_cast<std::size_t>(rect.width) * texel, 0, texels.data());
+  });
+  return texels;
+}
+
 std::vector<std::uint8_t> Texture::read_stencil() const {
   const FormatInfo& info = format_info(impl_->format);
   if (!info.stencil)
