@@ -1,12 +1,12 @@
-// Unit tests of the per-fragment operations (stages/fragment_ops.cl) and of the advanced blend
+// Unit tests of the per-fragment operations (raster/fragment_ops.cl) and of the advanced blend
 // modes (program/library/blend_modes.cl). Small test kernels call the real functions, compiled with
 // the pipeline's sources; the expected values come from references written here, independently,
 // from the formulas of OpenGL 4.6 (17.3.3 stencil, 17.3.4 depth, 17.3.6 blending), of llvmpipe's
 // 8-bit fixed-point blend (in integers) and of KHR_blend_equation_advanced.
 #include "api/impl.hpp"
-#include "cl/kernel_sources.hpp"
-#include "cl/launch.hpp"
-#include "stages/types.h"
+#include "runtime/kernel_sources.hpp"
+#include "runtime/launch.hpp"
+#include "shared/types.h"
 #include "support/test_support.hpp"
 
 #include <algorithm>

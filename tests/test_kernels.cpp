@@ -2,13 +2,13 @@
 // rule, and the scan and radix sort that binning stands on. Each test runs the real kernel functions
 // through a small test kernel compiled together with the pipeline's sources.
 #include "api/impl.hpp"
-#include "cl/kernel_sources.hpp"
-#include "cl/launch.hpp"
-#include "clr_limits.h"
 #include "parallel/radix_sort.hpp"
 #include "pipeline/draw_state.hpp"
 #include "program/generator.hpp"
 #include "program/interface.hpp"
+#include "runtime/kernel_sources.hpp"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
 #include "support/test_support.hpp"
 
 #include <algorithm>

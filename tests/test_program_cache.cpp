@@ -1,7 +1,7 @@
 // The on-disk cache of built programs: it keeps within its limit by removing the entries used
 // longest ago, where loading an entry counts as using it.
 #include "api/impl.hpp"
-#include "cl/program_cache.hpp"
+#include "runtime/program_cache.hpp"
 #include "support/test_support.hpp"
 
 #include <algorithm>

@@ -3,8 +3,8 @@
 // (sections 8.14 and 8.15); mipmap generation; image files; and every bad input. Device code runs
 // through small test kernels compiled with the pipeline's sources.
 #include "api/impl.hpp"
-#include "cl/kernel_sources.hpp"
-#include "cl/launch.hpp"
+#include "runtime/kernel_sources.hpp"
+#include "runtime/launch.hpp"
 #include "support/test_support.hpp"
 
 #include <stb/stb_image_write.h>

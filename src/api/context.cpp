@@ -1,6 +1,6 @@
 #include "api/impl.hpp"
-#include "cl/kernel_sources.hpp"
-#include "clr_limits.h"
+#include "runtime/kernel_sources.hpp"
+#include "shared/clr_limits.h"
 
 #include <algorithm>
 #include <bit>

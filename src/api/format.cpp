@@ -1,6 +1,6 @@
-// The public face of the format table (stages/types.h), which the kernels expand too.
+// The public face of the format table (shared/types.h), which the kernels expand too.
 #include "clraster/clraster.hpp"
-#include "stages/types.h"
+#include "shared/types.h"
 
 #include <array>
 #include <string>

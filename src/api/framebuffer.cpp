@@ -1,6 +1,6 @@
 #include "api/errors.hpp"
 #include "api/impl.hpp"
-#include "clr_limits.h"
+#include "shared/clr_limits.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,14 +1,14 @@
 // The private side of the public API objects (clraster.hpp): what each handle owns.
 #pragma once
 
-#include "cl/device.hpp"
-#include "cl/program_cache.hpp"
-#include "cl/queue.hpp"
 #include "clraster/clraster.hpp"
 #include "pipeline/pipeline.hpp"
 #include "program/interface.hpp"
 #include "resources/pending_clear.hpp"
-#include "stages/types.h"
+#include "runtime/device.hpp"
+#include "runtime/program_cache.hpp"
+#include "runtime/queue.hpp"
+#include "shared/types.h"
 
 #include <array>
 #include <memory>

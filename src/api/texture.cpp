@@ -2,8 +2,8 @@
 // image files (stb_image), or by the texture_downsample kernel (resources/texture.cl).
 #include "api/errors.hpp"
 #include "api/impl.hpp"
-#include "cl/launch.hpp"
 #include "resources/texture_layout.hpp"
+#include "runtime/launch.hpp"
 
 #include <stb/stb_image.h>
 

@@ -1,7 +1,7 @@
 #include "parallel/radix_sort.hpp"
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
 
 #include <algorithm>
 

@@ -1,8 +1,8 @@
 #include "parallel/scan.hpp"
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
-#include "stages/types.h"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
 
 #include <algorithm>
 

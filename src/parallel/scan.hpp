@@ -1,7 +1,7 @@
 // Exclusive prefix sum of a uint buffer on the device (kernels in scan.cl).
 #pragma once
 
-#include "cl/queue.hpp"
+#include "runtime/queue.hpp"
 
 #include <CL/opencl.hpp>
 

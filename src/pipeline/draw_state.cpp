@@ -1,6 +1,6 @@
 #include "pipeline/draw_state.hpp"
 
-#include "clr_limits.h"
+#include "shared/clr_limits.h"
 
 #include <algorithm>
 #include <cmath>

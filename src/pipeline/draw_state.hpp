@@ -4,7 +4,7 @@
 #include "clraster/clraster.hpp"
 #include "pipeline/pipeline.hpp"
 #include "program/interface.hpp"
-#include "stages/types.h"
+#include "shared/types.h"
 
 #include <array>
 

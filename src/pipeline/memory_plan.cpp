@@ -1,9 +1,9 @@
 #include "pipeline/memory_plan.hpp"
 
 #include "clraster/clraster.hpp"
-#include "clr_limits.h"
+#include "shared/clr_limits.h"
 #include "parallel/radix_sort.hpp"
-#include "stages/types.h"
+#include "shared/types.h"
 
 #include <algorithm>
 #include <numeric>

@@ -2,10 +2,10 @@
 // many primitives each chunk takes and how many bin pairs each raster batch takes.
 #pragma once
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
-#include "resources/scratch.hpp"
-#include "stages/types.h"
+#include "runtime/launch.hpp"
+#include "runtime/scratch.hpp"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
 
 #include <cstddef>
 #include <cstdint>

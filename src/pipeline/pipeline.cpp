@@ -1,10 +1,10 @@
 #include "pipeline/pipeline.hpp"
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
 #include "pipeline/draw_state.hpp"
 #include "program/generator.hpp"
-#include "stages/types.h"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
 
 #include <algorithm>
 #include <array>

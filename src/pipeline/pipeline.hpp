@@ -15,15 +15,15 @@
 #pragma once
 
 #include "clraster/clraster.hpp"
+#include "geometry/bin.hpp"
+#include "geometry/setup.hpp"
+#include "geometry/vertex.hpp"
 #include "parallel/radix_sort.hpp"
 #include "pipeline/memory_plan.hpp"
 #include "program/interface.hpp"
+#include "raster/raster.hpp"
 #include "resources/pending_clear.hpp"
-#include "resources/scratch.hpp"
-#include "stages/bin.hpp"
-#include "stages/raster.hpp"
-#include "stages/setup.hpp"
-#include "stages/vertex.hpp"
+#include "runtime/scratch.hpp"
 
 #include <limits>
 #include <map>

@@ -1,7 +1,7 @@
 #include "program/generator.hpp"
 
-#include "cl/kernel_sources.hpp"
-#include "stages/types.h"
+#include "runtime/kernel_sources.hpp"
+#include "shared/types.h"
 
 #include <algorithm>
 #include <sstream>
@@ -332,7 +332,7 @@ bool early_fragment_tests(const ParsedProgram& p) {
 }
 
 std::size_t shaded_vertex_bytes(const ParsedProgram& p) {
-  return 16 * (CLR_SHADED_VARYINGS + (varying_float_count(p) + 3) / 4);  // layout in stages/types.h
+  return 16 * (CLR_SHADED_VARYINGS + (varying_float_count(p) + 3) / 4);  // layout in shared/types.h
 }
 
 std::size_t setup_triangle_bytes(const ParsedProgram& p) {
@@ -344,8 +344,8 @@ std::size_t setup_triangle_bytes(const ParsedProgram& p) {
 std::string generate_stage_program(const ParsedProgram& p, const std::string& user_source, const std::string& file_name) {
   std::ostringstream out;
   emit_constants(out, p);
-  out << cl_sources::compose({"clr_limits.h", "stages/types.h", "resources/index_range.cl", "resources/format.cl", "resources/texture.cl",
-                              "stages/fragment_ops.cl", "resources/texture_span.cl", "program/library/blend_modes.cl"});
+  out << cl_sources::compose({"shared/clr_limits.h", "shared/types.h", "resources/index_range.cl", "resources/format.cl", "resources/texture.cl",
+                              "raster/fragment_ops.cl", "resources/texture_span.cl", "program/library/blend_modes.cl"});
   std::string quoted;
   for (const char c : file_name) {
     if (c == '"' || c == '\\') quoted += '\\';
@@ -356,8 +356,8 @@ std::string generate_stage_program(const ParsedProgram& p, const std::string& us
   emit_interface(interface, p);
   out << cl_sources::compose({"program/prelude.cl"});
   out << "#line 1 \"" << quoted << "\"\n" << user_source << "\n";
-  out << cl_sources::compose({"stages/clip.cl", "stages/fixed_point.cl", "stages/vertex.cl", "stages/primitive.cl",
-                              "stages/setup.cl", "stages/bin.cl", "stages/raster.cl"});
+  out << cl_sources::compose({"geometry/clip.cl", "geometry/fixed_point.cl", "geometry/vertex.cl", "geometry/primitive.cl",
+                              "geometry/setup.cl", "geometry/bin.cl", "raster/raster.cl"});
   out << "#line 1 \"<clraster generated glue>\"\n";
   emit_glue(out, p);
   return out.str();

@@ -47,7 +47,7 @@ void index_bounds(__global const uchar* indices, int index_size, uint first, uin
  * each side shrunk to the indices it has. A block of a grid mesh's cells takes vertices from two
  * rows, each a run of the grid's vertex order: two ranges find both, where one would hold the whole
  * row between them. The elements of a list's primitives p are 3p to 3p + 2, of a strip's p to
- * p + 2, and of a fan's 0 and p + 1 to p + 2 (stages/primitive.cl). */
+ * p + 2, and of a fan's 0 and p + 1 to p + 2 (geometry/primitive.cl). */
 __kernel void block_index_ranges(__global const uchar* indices, int index_size, uint first, uint primitive_count,
                                  int topology, __global uint4* ranges) {
   const uint block = get_global_id(0);

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "clraster/clraster.hpp"
-#include "stages/types.h"
+#include "shared/types.h"
 
 #include <array>
 #include <cstddef>

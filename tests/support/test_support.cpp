@@ -1,11 +1,11 @@
 #include "support/test_support.hpp"
 
 #include "api/impl.hpp"
-#include "cl/kernel_sources.hpp"
 #include "io/image_io.hpp"
 #include "io/procedural.hpp"
 #include "oracle/gl_renderer.hpp"
 #include "program/generator.hpp"
+#include "runtime/kernel_sources.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "cl/device.hpp"
+#include "runtime/device.hpp"
 
-#include "clr_limits.h"
+#include "shared/clr_limits.h"
 
 #include <cstdlib>
 #include <string>

@@ -9,7 +9,7 @@
 namespace clraster::cl_sources {
 
 struct SourceFile {
-  const char* name;  // path relative to src/, e.g. "stages/raster.cl"
+  const char* name;  // path relative to src/, e.g. "geometry/vertex.cl"
   const char* text;
 };
 

@@ -1,7 +1,7 @@
-#include "stages/vertex.hpp"
+#include "geometry/vertex.hpp"
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
 
 namespace clraster::stages {
 

@@ -1,7 +1,7 @@
-#include "stages/raster.hpp"
+#include "raster/raster.hpp"
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
 
 #include <algorithm>
 #include <numeric>

@@ -1,7 +1,7 @@
 // Small helpers for enqueueing kernels and reading single values back.
 #pragma once
 
-#include "cl/queue.hpp"
+#include "runtime/queue.hpp"
 
 #include <CL/opencl.hpp>
 

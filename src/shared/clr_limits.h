@@ -39,7 +39,7 @@
 /* Vertices one work-item of the vertex stage shades on a CPU, whose clip codes, projection and
  * snapping it then computes together, one vector lane each (the build option CLR_VERTEX_LANES; GPUs
  * take 1). PoCL does not vectorize that fixed-function work across work-items, because the vertex
- * program before it works on float4s (stages/clip.cl). */
+ * program before it works on float4s (geometry/clip.cl). */
 #define CLR_CPU_VERTEX_LANES 8
 /* Scans and index validation take blocks of CLR_SCAN_BLOCK elements, one work-group each (radix
  * sorts take blocks of their own, below). Its work-items (CLR_SCAN_GROUP_SIZE, a build option) are
@@ -89,7 +89,7 @@
  * programs shaded in quads take CLR_RASTER_CPU_ITEMS. */
 #define CLR_QUAD_PIXELS 4
 /* Pixels of a tile row such a work-item shades together, one vector lane each (a span, see
- * stages/fragment_ops.cl), or of a thin triangle's rows packed together (raster.cl): one byte of a
+ * raster/fragment_ops.cl), or of a thin triangle's rows packed together (raster.cl): one byte of a
  * coverage mask word, and AVX's 8 floats. Spans of 4 were
  * measured too: large triangles' fragments (fill-16) about 1.4 times slower, small triangles' no
  * faster beyond the noise. */
@@ -105,7 +105,7 @@
  * before set-up: the vertex stage ANDs the clip codes of each group of CLR_CODE_GROUP_SLOTS
  * consecutive vertex slots, and a block of CLR_CULL_BLOCK_PRIMITIVES primitives whose vertices'
  * index ranges lie in groups that are all outside one clip plane or side of the viewport leaves
- * set-up nothing to read (stages/setup.cl). A mesh's primitives near each other in its index order
+ * set-up nothing to read (geometry/setup.cl). A mesh's primitives near each other in its index order
  * are near each other in space, so the parts of a large mesh outside the view go a block at a time. */
 #define CLR_CULL_BLOCK_PRIMITIVES 64
 /* A CPU work-item of the vertex stage shades one group and stores its codes: a locked AND into a
@@ -127,7 +127,7 @@
 #define CLR_BUFFER_GROWTH_DEN 2
 
 /* ---- Program cache -------------------------------------------------------------------------------
- * The on-disk cache of built programs (cl/program_cache.cpp) keeps at most this many MiB; beyond it,
+ * The on-disk cache of built programs (runtime/program_cache.cpp) keeps at most this many MiB; beyond it,
  * the entries used longest ago go first. A program's binary takes about 1 MiB. */
 #define CLR_PROGRAM_CACHE_MIB 512
 

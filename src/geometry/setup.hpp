@@ -3,8 +3,8 @@
 // fixed-point edge functions, and how many tiles each primitive's triangles touch.
 #pragma once
 
-#include "stages/draw_buffers.hpp"
-#include "stages/types.h"
+#include "geometry/draw_buffers.hpp"
+#include "shared/types.h"
 
 #include <cstdint>
 

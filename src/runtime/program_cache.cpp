@@ -1,4 +1,4 @@
-#include "cl/program_cache.hpp"
+#include "runtime/program_cache.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -3,7 +3,7 @@
 // pending clears.
 #pragma once
 
-#include "stages/draw_buffers.hpp"
+#include "geometry/draw_buffers.hpp"
 
 #include <cstdint>
 

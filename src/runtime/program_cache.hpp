@@ -5,8 +5,8 @@
 // limit_bytes of them, dropping the entries used longest ago first.
 #pragma once
 
-#include "cl/device.hpp"
-#include "clr_limits.h"
+#include "runtime/device.hpp"
+#include "shared/clr_limits.h"
 
 #include <cstdint>
 #include <filesystem>

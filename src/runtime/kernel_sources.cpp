@@ -1,4 +1,4 @@
-#include "cl/kernel_sources.hpp"
+#include "runtime/kernel_sources.hpp"
 
 #include <stdexcept>
 #include <string_view>
@@ -25,7 +25,7 @@ std::string compose(std::initializer_list<const char*> names) {
 }
 
 std::string core_program() {
-  return compose({"clr_limits.h", "stages/types.h", "parallel/scan.cl", "parallel/radix_sort.cl",
+  return compose({"shared/clr_limits.h", "shared/types.h", "parallel/scan.cl", "parallel/radix_sort.cl",
                   "resources/index_range.cl", "resources/format.cl", "resources/texture.cl", "resources/clear.cl"});
 }
 

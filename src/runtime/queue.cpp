@@ -1,4 +1,4 @@
-#include "cl/queue.hpp"
+#include "runtime/queue.hpp"
 
 namespace clraster::cl_host {
 

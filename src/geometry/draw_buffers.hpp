@@ -2,7 +2,7 @@
 // generator adds after each stage kernel's own, program/generator.cpp).
 #pragma once
 
-#include "cl/queue.hpp"
+#include "runtime/queue.hpp"
 
 #include <CL/opencl.hpp>
 #include <cstdint>

@@ -2,9 +2,9 @@
 // CLR_VERTEX_LANES slots.
 #pragma once
 
-#include "clr_limits.h"
-#include "stages/draw_buffers.hpp"
-#include "stages/types.h"
+#include "geometry/draw_buffers.hpp"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
 
 #include <cstddef>
 #include <cstdint>

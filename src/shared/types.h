@@ -28,7 +28,7 @@ typedef float clr_float;
 #else
 #include <cstdint>
 
-#include "clr_limits.h" /* the kernels get it prepended instead */
+#include "shared/clr_limits.h" /* the kernels get it prepended instead */
 typedef std::int64_t clr_long;
 typedef std::int32_t clr_int;
 typedef std::uint32_t clr_uint;

@@ -1,4 +1,4 @@
-#include "stages/draw_buffers.hpp"
+#include "geometry/draw_buffers.hpp"
 
 namespace clraster::stages {
 

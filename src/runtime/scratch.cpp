@@ -1,6 +1,6 @@
-#include "resources/scratch.hpp"
+#include "runtime/scratch.hpp"
 
-#include "clr_limits.h"
+#include "shared/clr_limits.h"
 
 #include <algorithm>
 #include <numeric>

@@ -1,7 +1,7 @@
-#include "stages/bin.hpp"
+#include "geometry/bin.hpp"
 
-#include "cl/launch.hpp"
-#include "clr_limits.h"
+#include "runtime/launch.hpp"
+#include "shared/clr_limits.h"
 
 #include <bit>
 
