@@ -161,9 +161,9 @@ void fragment(clr_fragment* f) { f->out.color = (float4)(f->in.uv, 0.0f, 1.0f); 
 }
 
 // The fragment's window depth and 1 / w (gl_FragCoord.zw) over the same ground, with the depth test
-// off and on: raster.cl works out a span's depth before the tests when the depth test needs it, and
-// only for fragments that passed them otherwise; both ways must give GL's. Both are within 7.8e-7 of
-// GL's (measured; depth is in [0, 1], 1 / w up to about 10 here).
+// off and on: raster/shade.cl works out a span's depth before the tests when the depth test needs
+// it, and only for fragments that passed them otherwise; both ways must give GL's. Both are within
+// 7.8e-7 of GL's (measured; depth is in [0, 1], 1 / w up to about 10 here).
 TEST(Interpolation, FragmentCoordinatesMatchOpenGlWithAndWithoutTheDepthTest) {
   ProgramPair program(R"(
 clr_attribute(float3, position)

@@ -373,7 +373,7 @@ TEST(SpanPrograms, TakeTheDerivativesAndSamplesOfTheirPerFragmentTwinInEveryShap
 
 // Slivers: triangles a pixel or so wide and 8 to 40 long at any angle, in a 61x47 framebuffer. Most
 // of their (tile, triangle) pairs cover a pixel or two in each of many rows, so the CPU rasterizer
-// shades them as packed spans (raster.cl), while GPU shapes shade one pixel at a time.
+// shades them as packed spans (raster/strategy/spans.cl), while GPU shapes shade one pixel at a time.
 io::Mesh slivers(int count, unsigned seed) {
   std::mt19937 random(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);

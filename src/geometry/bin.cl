@@ -7,6 +7,8 @@
  * Triangle ids: a primitive's own record (setup.cl) is id = primitive index in the chunk; triangles
  * left by clipping are CLR_OVERFLOW_TRIANGLE | their index in the overflow records. */
 
+#include "shared/types.h"
+
 /* The pairs of the triangle `id` whose pixel box has the corners pixel_min and pixel_max (x | y << 16),
  * from pair `out` on; returns the pair after them. */
 static inline uint emit_tiles(uint pixel_min, uint pixel_max, uint id, uint tiles_x, uint out, __global uint* tile_keys,

@@ -7,6 +7,10 @@
  * leaves every visible edge where the vertices put it, as llvmpipe does. Together the guard planes
  * also imply w >= 0, so clipped polygons never cross w = 0. */
 
+#include "raster/span.cl" /* CLR_SPAN_CAT */
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 typedef struct {
   float4 position; /* clip space */
   float varyings[CLR_NUM_VARYINGS];

@@ -6,6 +6,10 @@
  * fall on integer multiples of CLR_SUBPIXEL_ONE. Every coverage decision is then integer
  * arithmetic in 64 bits: exact, watertight and the same on every device. */
 
+#include "geometry/clip.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 typedef struct {
   int2 fixed;      /* snapped window position, pixel centres at multiples of CLR_SUBPIXEL_ONE */
   float2 residual; /* what snapping took away: the position before it is fixed + residual */

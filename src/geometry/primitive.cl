@@ -10,6 +10,11 @@
  * rejected, clipped (clip.cl) or taken as the vertex stage projected and snapped it (fixed_point.cl),
  * and culls it. */
 
+#include "geometry/clip.cl"
+#include "geometry/fixed_point.cl"
+#include "resources/index_range.cl"
+#include "shared/types.h"
+
 static inline uint3 primitive_stream_positions(int topology, uint p) {
   if (topology == CLR_TOPOLOGY_LIST) return (uint3)(3 * p, 3 * p + 1, 3 * p + 2);
   if (topology == CLR_TOPOLOGY_STRIP) return (p & 1) ? (uint3)(p + 1, p, p + 2) : (uint3)(p, p + 1, p + 2);

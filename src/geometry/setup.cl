@@ -15,8 +15,14 @@
  * time, cost binning more than its sort (bin_emit of terrain-1m 4.3 -> 1.3 ms without them).
  *
  * The loops over a triangle's vertices and varyings here and in primitive.cl are unrolled, so that
- * the record and the vertices being assembled stay in registers (fragment_ops.cl says why; set-up
+ * the record and the vertices being assembled stay in registers (raster/span.cl says why; set-up
  * of terrain-4m 63 -> 48 ms). */
+
+#include "geometry/clip.cl"
+#include "geometry/fixed_point.cl"
+#include "geometry/primitive.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
 
 /* A triangle's writable pixels within its bounding box, the corners packed as x | y << 16. */
 static inline uint2 packed_pixel_box(const TriangleExtent* extent) {

@@ -18,6 +18,12 @@
  * work-item's slots are one group, whose codes it stores; on GPUs the group's work-items AND theirs
  * in (group_codes filled with ones before). */
 
+#include "geometry/clip.cl"
+#include "geometry/fixed_point.cl"
+#include "resources/index_range.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 __kernel void vertex_shade(__global const uchar* indices, SlotMap slots, uint main_count, uint slot_count,
                            uint instance_slots, __constant const DrawUniforms* draws, uint draw,
                            __global float4* shaded, __global uint* group_codes CLR_RESOURCE_PARAMS CLR_ATTRIBUTE_PARAMS) {

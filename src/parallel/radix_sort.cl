@@ -10,6 +10,10 @@
  *   radix_scatter    per block, each pair's rank among the block's pairs with the same digit, in
  *                    input order, added to that position. */
 
+#include "parallel/scan.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 static inline uint radix_digit(uint key, uint shift) { return (key >> shift) & (CLR_RADIX_BUCKETS - 1); }
 
 __kernel __attribute__((reqd_work_group_size(CLR_SCAN_GROUP_SIZE, 1, 1)))

@@ -6,6 +6,9 @@
  * associative, so the result does not depend on the order of the additions, and a scan whose true
  * total does not fit in 32 bits stays monotone, with a total of UINT_MAX the host can recognize. */
 
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 /* A block's elements add up exactly in 64 bits; their saturated sum is that, clamped. */
 static inline uint saturated(ulong sum) { return (uint)min(sum, (ulong)UINT_MAX); }
 

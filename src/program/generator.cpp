@@ -114,7 +114,7 @@ void emit_interface(InterfaceWriter& w, const ParsedProgram& p) {
   emit_struct(w, "clr_span_program_outputs", members);
 
   std::ostringstream& out = w.out;
-  out << "/* The outputs of a span of fragments (raster.cl): floats as colours, integers as their bits. */\n"
+  out << "/* The outputs of a span of fragments (raster/shade.cl): floats as colours, integers as their bits. */\n"
       << "typedef struct {\n";
   if (in.outputs.empty()) out << "  int clr_none;\n";
   for (const ProgramVariable& o : in.outputs) {
@@ -243,8 +243,8 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
     }
   }
   out << "}\n\n"
-      << "/* The varyings of lane `lane` of a span, whose interpolated floats are `values` (raster.cl). Flat\n"
-      << " * varyings hold the provoking vertex's value in all three vertices. */\n"
+      << "/* The varyings of lane `lane` of a span, whose interpolated floats are `values`\n"
+      << " * (raster/interpolation.cl). Flat varyings hold the provoking vertex's value in all three vertices. */\n"
       << "CLR_INLINE void clr_lane_varyings(const __local SetupTriangle* t, const clr_span_float* values, int lane, "
          "clr_varyings* v) {\n";
   // Each varying in one assignment, a vector literal for vectors: the program reads it whole, and a
@@ -267,7 +267,7 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
   }
   out << "}\n\n";
 
-  out << "/* A span program's varyings from the span's interpolated floats `values` (raster.cl). */\n"
+  out << "/* A span program's varyings from the span's interpolated floats `values` (raster/interpolation.cl). */\n"
       << "CLR_INLINE void clr_span_program_inputs(const __local SetupTriangle* t, const clr_span_float* values, "
          "clr_span_varyings* v) {\n";
   for (const ProgramVariable& v : in.varyings) {
@@ -327,7 +327,7 @@ void emit_glue(std::ostringstream& out, const ParsedProgram& p) {
 bool early_fragment_tests(const ParsedProgram& p) {
   // A per-fragment program that takes derivatives runs for every pixel of its quads, those that fail
   // the tests too, so it gains nothing from testing first; a span program runs for whole spans
-  // anyway (raster.cl).
+  // anyway (raster/shade.cl).
   return !p.may_discard && !p.writes_depth && (!p.interface.uses_derivatives || p.interface.has_fragment_span);
 }
 
@@ -343,9 +343,10 @@ std::size_t setup_triangle_bytes(const ParsedProgram& p) {
 
 std::string generate_stage_program(const ParsedProgram& p, const std::string& user_source, const std::string& file_name) {
   std::ostringstream out;
+  cl_sources::Composer sources;
   emit_constants(out, p);
-  out << cl_sources::compose({"shared/clr_limits.h", "shared/types.h", "resources/index_range.cl", "resources/format.cl", "resources/texture.cl",
-                              "raster/fragment_ops.cl", "resources/texture_span.cl", "program/library/blend_modes.cl"});
+  // What the generated interface names: span types and textures.
+  out << sources.include("raster/span.cl") << sources.include("resources/texture.cl");
   std::string quoted;
   for (const char c : file_name) {
     if (c == '"' || c == '\\') quoted += '\\';
@@ -354,10 +355,12 @@ std::string generate_stage_program(const ParsedProgram& p, const std::string& us
   out << "#line 1 \"" << kInterfaceName << "\"\n";
   InterfaceWriter interface{out, quoted, static_cast<std::size_t>(out.tellp())};
   emit_interface(interface, p);
-  out << cl_sources::compose({"program/prelude.cl"});
+  out << sources.include("program/prelude.cl");
   out << "#line 1 \"" << quoted << "\"\n" << user_source << "\n";
-  out << cl_sources::compose({"geometry/clip.cl", "geometry/fixed_point.cl", "geometry/vertex.cl", "geometry/primitive.cl",
-                              "geometry/setup.cl", "geometry/bin.cl", "raster/raster.cl"});
+  // The stages' kernels, which call the user's functions.
+  for (const char* stage : {"geometry/vertex.cl", "geometry/setup.cl", "geometry/bin.cl", "raster/tile.cl"}) {
+    out << sources.include(stage);
+  }
   out << "#line 1 \"<clraster generated glue>\"\n";
   emit_glue(out, p);
   return out.str();

@@ -1,14 +1,15 @@
 // Generates the OpenCL C program that runs a user program through every pipeline stage:
 //
 //   generated constants (varying and output counts, quad shading, early tests)
-//   clr_limits.h, types.h, texel formats, texture sampling, fragment operations, blend modes
+//   raster/span.cl and resources/texture.cl, which the interface names, with what they include
 //   generated interface: clr_attributes, clr_varyings, clr_uniforms, clr_textures, clr_buffers,
 //     clr_outputs, clr_vertex, clr_fragment, the resource kernel parameters, the attribute fetch
 //     (CLR_FETCH_ATTRIBUTES), glue prototypes
 //   program/prelude.cl: what programs call (clr_mul, derivatives, clr_sample, clr_discard, ...)
+//     and what it includes (spans' texture sampling, blend modes)
 //   #line 1 "<user file>" + the user's source, so compiler messages name the user's lines
-//   the stage kernels: vertex.cl ... raster.cl
-//   generated glue: varyings packed into floats and back (raster.cl interpolates the floats), the
+//   the stage kernels: geometry/vertex.cl, setup.cl, bin.cl and raster/tile.cl, with what they include
+//   generated glue: varyings packed into floats and back (raster/ interpolates the floats), the
 //     program's depth test and blend function called, outputs gathered and merged into the tile
 #pragma once
 

@@ -1,6 +1,12 @@
 /* prelude.cl: what user programs call, besides OpenCL C's built-ins (docs/programs.md lists it all).
  * Compiled after the generated interface (clr_vertex, clr_fragment) and before the user's source. */
 
+#include "program/library/blend_modes.cl"
+#include "raster/span.cl"
+#include "resources/texture.cl"
+#include "resources/texture_span.cl"
+#include "shared/types.h"
+
 /* The declaration macros expand to nothing: the generator read them already. */
 #define clr_attribute(type, name)
 #define clr_varying(type, name)
@@ -71,7 +77,7 @@ static inline float4 clr_quad_difference(__local float4* quad, uint lane, float4
   return quad[bottom + CLR_TILE_SIZE] - quad[bottom];
 }
 
-/* A span program's derivatives: in quad spans (fragment_ops.cl: lanes 0, 1, 4, 5 one quad, 2, 3, 6, 7
+/* A span program's derivatives: in quad spans (raster/span.cl: lanes 0, 1, 4, 5 one quad, 2, 3, 6, 7
  * another, lanes 0-3 their lower rows) the same differences between the lanes of the span, without
  * barriers; in spans of one pixel through the exchange. Four values at once, the components of a
  * span vector. (Spans of eight are quad spans wherever the program takes derivatives.) */

@@ -10,7 +10,7 @@ namespace clraster::stages {
 namespace {
 
 // The stride, coprime with `runs`, of the order in which work-groups take the runs of tiles
-// (raster.cl): the first integer from runs / golden ratio, so that any range of consecutive groups
+// (tile.cl): the first integer from runs / golden ratio, so that any range of consecutive groups
 // takes runs spread evenly over the picture.
 cl_uint spread_stride(std::size_t runs) {
   std::size_t stride = std::max<std::size_t>(1, static_cast<std::size_t>(static_cast<double>(runs) * 0.6180339887));
@@ -33,7 +33,7 @@ void RasterStage::run(cl_host::Queue& queue, const RasterParams& p) {
                                    cl_uint{p.clears});
   for (const cl::Buffer& color : p.colors) kernel_.setArg(next++, color);
   set_resource_args(kernel_, next, *p.resources);
-  // One work-group per tile (whole runs of them), of the shape the program was compiled for (raster.cl).
+  // One work-group per tile (whole runs of them), of the shape the program was compiled for (group.cl).
   queue.get().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(runs * CLR_RASTER_TILE_RUN * group_size_),
                                    cl::NDRange(group_size_), nullptr, queue.event());
 }

@@ -1,4 +1,4 @@
-// Rasterization, the fragment program and the per-fragment operations (kernel in raster.cl): one
+// Rasterization, the fragment program and the per-fragment operations (kernel in tile.cl): one
 // work-group per tile; those of tiles without triangles return at once, unless the pass writes
 // pending clears.
 #pragma once

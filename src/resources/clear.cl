@@ -5,6 +5,10 @@
  * copies those bytes into the others: the conversion is the costly part, the copies are plain
  * stores the compiler vectorizes. */
 
+#include "resources/format.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 /* Texels [first + 1, end) take texel first's bytes. */
 static inline void copy_first_texel(int format, __global uchar* data, uint first, uint end) {
   const clr_texel_layout layout = clr_texel_layout_of(format);

@@ -15,6 +15,8 @@
  * float format, reads (0, 0, 0, 1) and writes nothing here.
  */
 
+#include "shared/types.h"
+
 /* A format's row of the format table, as the kernels need it. */
 typedef struct {
   int channels;     /* 0 for a format that does not exist: it reads (0, 0, 0, 1) and writes nothing */

@@ -3,6 +3,9 @@
  * only the vertices it uses; and the range of the indices of each block of primitives, for block
  * culling (clr_limits.h). */
 
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 static inline uint fetch_index(__global const uchar* indices, int index_size, uint position) {
   if (index_size == 2) return ((__global const ushort*)indices)[position];
   return ((__global const uint*)indices)[position];

@@ -2,7 +2,7 @@
 //
 // As llvmpipe folds a clear into its scene, the next draw into the texture writes the clear with its
 // tiles: the raster pass starts every tile from the clear value instead of loading the attachment,
-// and writes back every tile, those without triangles too (raster.cl, `clears`). So a frame's clear
+// and writes back every tile, those without triangles too (raster/tile.cl, `clears`). So a frame's clear
 // costs no pass of its own over the framebuffer, and its tiles are not read back. Whatever else reads
 // or writes the texels (a read, an upload, mipmaps, sampling in a draw) writes the clear first
 // (Texture::Impl::write_pending_clear).

@@ -16,6 +16,10 @@
  * depth textures sample as (depth, 0, 0, 1). Integer textures are only read with texel fetches.
  */
 
+#include "resources/format.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 typedef struct {
   __global const uchar* data;          /* the texture's buffer */
   __constant const TextureDesc* desc;  /* its layout and the sampler's state */

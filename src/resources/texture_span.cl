@@ -10,6 +10,12 @@
  * lane's level, filter and wrap arithmetic can differ from its neighbours': each step computes what
  * any lane needs and selects. */
 
+#include "raster/span.cl"
+#include "resources/format.cl"
+#include "resources/texture.cl"
+#include "shared/clr_limits.h"
+#include "shared/types.h"
+
 #if CLR_SPAN_PIXELS > 1
 
 /* clr_floor_mod and clr_wrap (texture.cl) lane by lane, each lane with its own size. */

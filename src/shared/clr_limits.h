@@ -77,7 +77,7 @@
  * choice of it (kCpuShapeTileSize, kGpuShapeTileSize) and the default memory cap are in
  * clraster.hpp. */
 #define CLR_RASTER_TRIANGLE_BATCH 64 /* set-up triangles staged in local memory at a time */
-#define CLR_RASTER_TILE_RUN 8        /* consecutive tiles that consecutive work-groups take (raster.cl) */
+#define CLR_RASTER_TILE_RUN 8        /* consecutive tiles that consecutive work-groups take (raster/tile.cl) */
 /* Work-items per tile work-group, but for per-fragment programs shaded in quads (below). GPUs get one
  * per pixel. A CPU device gets CLR_RASTER_CPU_ITEMS, which loop over the tile's pixels
  * themselves: PoCL runs a work-group as loops over its work-items that it cannot vectorize around
@@ -85,11 +85,11 @@
  * walking the tile (its loops vectorized by the compiler where they allow it) is faster (measured). */
 #define CLR_RASTER_CPU_ITEMS 1
 /* Work-items of a CPU's tile work-group for per-fragment programs shaded in quads: one per pixel of
- * a 2x2 quad, exchanging values at barriers (raster.cl; GPUs keep one per pixel of the tile). Span
+ * a 2x2 quad, exchanging values at barriers (raster/group.cl; GPUs keep one per pixel of the tile). Span
  * programs shaded in quads take CLR_RASTER_CPU_ITEMS. */
 #define CLR_QUAD_PIXELS 4
 /* Pixels of a tile row such a work-item shades together, one vector lane each (a span, see
- * raster/fragment_ops.cl), or of a thin triangle's rows packed together (raster.cl): one byte of a
+ * raster/span.cl), or of a thin triangle's rows packed together (raster/strategy/spans.cl): one byte of a
  * coverage mask word, and AVX's 8 floats. Spans of 4 were
  * measured too: large triangles' fragments (fill-16) about 1.4 times slower, small triangles' no
  * faster beyond the noise. */

@@ -7,6 +7,8 @@
 #ifndef CLRASTER_TYPES_H
 #define CLRASTER_TYPES_H
 
+#include "shared/clr_limits.h"
+
 #ifdef __OPENCL_VERSION__
 /* Window coordinates must be computed exactly as written (no fused multiply-add), so that the same
  * input snaps to the same fixed-point position on every device and in every kernel. */
@@ -28,7 +30,6 @@ typedef float clr_float;
 #else
 #include <cstdint>
 
-#include "shared/clr_limits.h" /* the kernels get it prepended instead */
 typedef std::int64_t clr_long;
 typedef std::int32_t clr_int;
 typedef std::uint32_t clr_uint;

@@ -16,6 +16,8 @@
  * KHR_blend_equation_advanced on RGBA8 (premultiplied colours, alphas 0, partial and 1), the results
  * rounded to 8 bits were identical in all but one of 245760 channels, off by 1/255. */
 
+#include "shared/types.h" /* FP_CONTRACT OFF, as in every kernel source */
+
 /* The non-premultiplied colour of a premultiplied one, black when alpha is 0. */
 static inline float3 clr_khr_unpremultiply(float4 c) {
   return c.w == 0.0f ? (float3)(0.0f) : c.xyz / c.w;
