@@ -8,7 +8,8 @@
 // program per scene, one vertex array, all state set once; a frame is one glClear, per part a
 // glUniform4fv of its colour and a glDrawElements, and glFinish. The scenes of materials
 // (materials-256, engine-glb) are drawn part by part with the material program, as the command line
-// draws a model.
+// draws a model; a scene of views (views-64) into one picture of its layers side by side, per view
+// a glViewport on its layer, a glUniformMatrix4fv of its mvp and a glDrawElements.
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
 #include "frontend/model_draws.hpp"
@@ -136,6 +137,12 @@ struct LeanPart {
 
 enum class LeanShading { Normal, Overdraw, Material, Instanced };
 
+// A view of a scene of views: where it is drawn and its camera.
+struct LeanView {
+  Rect viewport;
+  Mat4 mvp{};
+};
+
 struct LeanSceneData {
   io::Mesh mesh;
   std::vector<LeanPart> parts;
@@ -145,6 +152,7 @@ struct LeanSceneData {
   frontend::ProgramInputs view;  // the material program's uniforms
   std::optional<Image> texture;  // the material's, rows from the top; none: one white texel
   std::vector<float> instances;  // an instanced scene's placements (bench::Scene::instances)
+  std::vector<LeanView> views;   // a scene of views', each part drawn once per view
 };
 
 // Feeds attribute `location` (none when -1: the program does not use it) from a new buffer, which it returns.
@@ -184,7 +192,7 @@ GLuint bind_texture(const std::optional<Image>& image) {
 class LeanScene {
  public:
   LeanScene(const LeanContext& context, const LeanSceneData& scene, int width, int height)
-      : context_(context), width_(width), height_(height), parts_(scene.parts) {
+      : context_(context), width_(width), height_(height), parts_(scene.parts), views_(scene.views) {
     context_.make_current();
     glCreateRenderbuffers(2, renderbuffers_);
     glNamedRenderbufferStorage(renderbuffers_[0], GL_RGBA8, width, height);
@@ -211,7 +219,8 @@ class LeanScene {
       glUniform3fv(glGetUniformLocation(program, "light_direction"), 1, scene.view.light_direction.data());
       texture_ = bind_texture(scene.texture);
     } else {
-      glUniformMatrix4fv(glGetUniformLocation(program, "mvp"), 1, GL_FALSE, scene.mvp.data());
+      mvp_location_ = glGetUniformLocation(program, "mvp");
+      glUniformMatrix4fv(mvp_location_, 1, GL_FALSE, scene.mvp.data());
     }
     color_location_ = glGetUniformLocation(program, "base_color");
     // One colour for every part is set once.
@@ -261,8 +270,12 @@ class LeanScene {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     for (const LeanPart& part : parts_) {
       if (color_location_ >= 0) glUniform4fv(color_location_, 1, part.color.data());
-      glDrawElementsInstanced(GL_TRIANGLES, GLsizei(part.count), GL_UNSIGNED_INT,
-                              reinterpret_cast<const void*>(std::uintptr_t(part.first) * 4), instance_count_);
+      if (views_.empty()) draw(part);
+      for (const LeanView& view : views_) {
+        glViewport(view.viewport.x, view.viewport.y, view.viewport.width, view.viewport.height);
+        glUniformMatrix4fv(mvp_location_, 1, GL_FALSE, view.mvp.data());
+        draw(part);
+      }
     }
     glFinish();
   }
@@ -282,11 +295,18 @@ class LeanScene {
   void make_current() const { context_.make_current(); }
 
  private:
+  void draw(const LeanPart& part) const {
+    glDrawElementsInstanced(GL_TRIANGLES, GLsizei(part.count), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(std::uintptr_t(part.first) * 4), instance_count_);
+  }
+
   const LeanContext& context_;
   int width_;
   int height_;
   std::vector<LeanPart> parts_;
+  std::vector<LeanView> views_;
   GLint color_location_ = -1;  // set per part; -1 when every part has one colour
+  GLint mvp_location_ = -1;    // set per view of a scene of views
   GLuint framebuffer_ = 0;
   GLuint renderbuffers_[2] = {};
   GLuint program_ = 0;
@@ -303,12 +323,17 @@ struct SceneSetup {
   LeanSceneData lean;
   bench::Scene scene;
   DrawState state;
+  int width = 0;  // of a layer (bench::Scene::layer_width)
+  int height = 0;
 };
 
-SceneSetup make_setup(const std::string& name, int width, int height) {
+// run_width x run_height: the size the check runs at (--size).
+SceneSetup make_setup(const std::string& name, int run_width, int run_height) {
   SceneSetup setup;
   setup.scene = bench::make_scene(name);
   const bench::Scene& scene = setup.scene;
+  const int width = setup.width = scene.layer_width(run_width);
+  const int height = setup.height = scene.layer_height(run_height);
   setup.state = scene.state(width, height);
   LeanSceneData& lean = setup.lean;
   lean.mesh = scene.model;
@@ -339,6 +364,9 @@ SceneSetup make_setup(const std::string& name, int width, int height) {
       fail("scene " + name + ": the lean check draws normal and overdraw shading only");
     }
     lean.parts = {{0, index_count, setup.state.base_color}};
+  }
+  for (const DrawState& view : scene.view_states(setup.state, width, height)) {
+    lean.views.push_back({view.viewport, pipeline::model_view_projection(view)});
   }
   return setup;
 }
@@ -411,8 +439,9 @@ int main(int argc, char** argv) try {
   std::printf("%-14s %6s %9s %10s %12s  %s\n", "scene", "draws", "lean ms", "oracle ms", "oracle/lean", "pictures");
   for (const std::string& name : options.scenes) {
     const SceneSetup setup = make_setup(name, options.width, options.height);
-    const LeanScene lean(context, setup.lean, options.width, options.height);
-    bench::GlScene oracle(setup.scene, setup.state, options.width, options.height);
+    const LeanScene lean(context, setup.lean, setup.width * setup.scene.layer_columns(),
+                         setup.height * setup.scene.layer_rows());
+    bench::GlScene oracle(setup.scene, setup.state, setup.width, setup.height);
     std::vector<double> lean_ms;
     std::vector<double> oracle_ms;
     for (int i = 0; i < bench::kWarmupFrames + options.frames; ++i) {
@@ -427,7 +456,8 @@ int main(int argc, char** argv) try {
     lean.make_current();
     const double lean_median = median(lean_ms);
     const double oracle_median = median(oracle_ms);
-    std::printf("%-14s %6zu %9.1f %10.1f %12.2f  %s\n", name.c_str(), setup.lean.parts.size(), lean_median,
+    const std::size_t draws = setup.lean.parts.size() * std::max<std::size_t>(1, setup.lean.views.size());
+    std::printf("%-14s %6zu %9.1f %10.1f %12.2f  %s\n", name.c_str(), draws, lean_median,
                 oracle_median, oracle_median / lean_median, compare(lean.picture(), oracle_picture).c_str());
     std::fflush(stdout);
   }

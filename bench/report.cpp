@@ -1,5 +1,6 @@
 #include "bench/report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -31,6 +32,12 @@ std::string with_thousands(std::uint64_t value) {
 
 std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
+// "1920x1080", or a scene of views' "64x256x256": 64 layers of 256x256.
+std::string size_text(const SceneResult& result) {
+  const std::string layer = size_text(result.width, result.height);
+  return result.layers == 1 ? layer : std::to_string(result.layers) + "x" + layer;
+}
+
 double mebibytes(std::uint64_t bytes) { return static_cast<double>(bytes) / (1 << 20); }
 
 }  // namespace
@@ -47,7 +54,7 @@ void print_table_head(std::ostream& out, const RunOptions& options) {
 
 std::ostream& print_table_row(std::ostream& out, const SceneResult& result) {
   out << format("%-13s %10s %5zu %-10s ", result.name.c_str(), with_thousands(result.triangles).c_str(), result.draws,
-                size_text(result.width, result.height).c_str());
+                size_text(result).c_str());
   if (!result.passed) {
     out << format("FAILED: the pictures differ: coverage mismatch %.4f (at most %g), colour mismatch %.4f (at most "
                   "%g)\n",
@@ -79,6 +86,10 @@ void print_table_foot(std::ostream& out, const std::vector<SceneResult>& results
     out << "clraster on " << results.front().device << ", " << tile << "x" << tile
         << " tiles; OpenGL: " << results.front().gl_renderer << '\n';
   }
+  if (std::any_of(results.begin(), results.end(), [](const SceneResult& result) { return result.layers > 1; })) {
+    out << "LxWxH: L views of WxH pixels whatever the size, one draw into a layered framebuffer (llvmpipe: one "
+           "picture of the views side by side, a draw per view in its viewport)\n";
+  }
   out << "stages: the median device time of each stage (OpenCL profiling events), the frame's draws together; "
          "other: index checks and transfers (the frame's clear is written by the raster stage)\n"
          "first frame: a new Context's, from its construction (programs from the disk cache) to the finished frame\n";
@@ -94,6 +105,7 @@ std::string to_json(const RunOptions& options, const std::vector<SceneResult>& r
                       {"draws", result.draws},
                       {"width", result.width},
                       {"height", result.height},
+                      {"layers", result.layers},
                       {"passed", result.passed},
                       {"clraster_ms", result.clraster_ms},
                       {"llvmpipe_ms", result.gl_ms},

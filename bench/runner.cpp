@@ -41,16 +41,17 @@ void require_no_warnings(const std::vector<std::string>& warnings, const std::st
 }
 
 // A scene on clraster: its mesh in device buffers, drawn into textures of the formats GlRenderer
-// draws into, with its built-in shading in one draw or with the material program part by part.
+// draws into, with its built-in shading in one draw or with the material program part by part; a
+// scene of views in one draw into a layered framebuffer (RGBA8 and Depth32FStencil8: its own
+// attachments, which draw depth as GL's Depth32F does).
 class ClrasterScene {
  public:
+  // width x height: a layer's size (Scene::layer_width).
   ClrasterScene(Context& context, const Scene& scene, const DrawState& state, int width, int height)
       : context_(context),
         vertices_(context, scene.model.positions, scene.model.normals),
         indices_(context, scene.model.indices),
-        color_(context, width, height, Format::RGBA8),
-        depth_(context, width, height, Format::Depth32F),
-        framebuffer_(context, {&color_}, &depth_) {
+        framebuffer_(make_framebuffer(context, scene, width, height)) {
     if (scene.draws_materials()) {
       std::vector<std::string> warnings;
       material_draws_.emplace(context, Program(context, frontend::kMaterialProgram, "<material>"), scene.model,
@@ -74,6 +75,7 @@ class ClrasterScene {
       call.vertices = &vertices_;
       call.indices = &indices_;
       call.state = state;
+      call.views = scene.view_matrices();
     }
   }
   ClrasterScene(const ClrasterScene&) = delete;  // the framebuffer and the calls point into it
@@ -87,14 +89,37 @@ class ClrasterScene {
     return stats;
   }
 
-  Image picture() const { return framebuffer_.read_color(); }
+  // The layers side by side as the framebuffer holds them (Framebuffer::layer_rect), each read as
+  // an application reads it: the picture GlScene draws.
+  Image picture() const {
+    const int columns = framebuffer_.layer_columns();
+    const int rows = (framebuffer_.layers() + columns - 1) / columns;
+    Image picture{framebuffer_.width() * columns, framebuffer_.height() * rows, {}};
+    picture.rgba.resize(std::size_t(picture.width) * std::size_t(picture.height) * 4);
+    for (int layer = 0; layer < framebuffer_.layers(); ++layer) {
+      const Image read = framebuffer_.read_color(0, layer);
+      const Rect rect = framebuffer_.layer_rect(layer);
+      const int top = picture.height - rect.y - rect.height;  // rows from the top, rect's from the bottom
+      for (int y = 0; y < read.height; ++y) {
+        std::copy_n(&read.rgba[std::size_t(y) * std::size_t(read.width) * 4], std::size_t(read.width) * 4,
+                    &picture.rgba[(std::size_t(top + y) * std::size_t(picture.width) + std::size_t(rect.x)) * 4]);
+      }
+    }
+    return picture;
+  }
 
  private:
+  Framebuffer make_framebuffer(Context& context, const Scene& scene, int width, int height) {
+    if (scene.draws_views()) return Framebuffer(context, width, height, scene.layer_count());
+    return Framebuffer(context, {&color_.emplace(context, width, height, Format::RGBA8)},
+                       &depth_.emplace(context, width, height, Format::Depth32F));
+  }
+
   Context& context_;
   VertexBuffer vertices_;
   IndexBuffer indices_;
-  Texture color_;
-  Texture depth_;
+  std::optional<Texture> color_;  // none for a scene of views: the layered framebuffer's own
+  std::optional<Texture> depth_;
   Framebuffer framebuffer_;
   std::optional<frontend::ClrasterModelDraws> material_draws_;
   std::optional<Program> instanced_program_;  // an instanced scene's
@@ -104,12 +129,13 @@ class ClrasterScene {
 };
 
 // As an application would draw its first frame: without profiling.
-double time_first_frame(const Scene& scene, const DrawState& state, const RunOptions& options) {
+double time_first_frame(const Scene& scene, const DrawState& state, const RunOptions& options, int width,
+                        int height) {
   ContextOptions unprofiled = options.context;
   unprofiled.profile = false;
   const Clock::time_point start = Clock::now();
   Context context(unprofiled);
-  ClrasterScene drawn(context, scene, state, options.width, options.height);
+  ClrasterScene drawn(context, scene, state, width, height);
   drawn.frame();
   return milliseconds_since(start);
 }
@@ -129,7 +155,9 @@ void keep_freed_memory() {
 }
 
 GlScene::GlScene(const Scene& scene, const DrawState& state, int width, int height)
-    : renderer_(width, height), state_(state) {
+    : renderer_(width * scene.layer_columns(), height * scene.layer_rows()),
+      state_(state),
+      view_states_(scene.view_states(state, width, height)) {
   if (scene.draws_materials()) {
     model_ = scene.model;
     std::vector<std::string> warnings;
@@ -158,9 +186,11 @@ GlScene::Instanced::Instanced(const Scene& scene, const Mat4& mvp, const DrawSta
 }
 
 void GlScene::frame() {
-  if (!instanced_) return frontend::draw_gl_frame(renderer_, state_, mesh_, material_draws_);
-  renderer_.clear({0, 0, 0, 1}, 1.0f);  // as draw_gl_frame: one instanced draw instead of the mesh's
-  renderer_.draw(instanced_->call);
+  if (!instanced_ && view_states_.empty()) return frontend::draw_gl_frame(renderer_, state_, mesh_, material_draws_);
+  // As draw_gl_frame, with one instanced draw or a draw per view instead of the mesh's one.
+  renderer_.clear({0, 0, 0, 1}, 1.0f);
+  if (instanced_) renderer_.draw(instanced_->call);
+  for (const DrawState& view : view_states_) renderer_.draw(*mesh_, 0, kAllElements, view);
   renderer_.finish();
 }
 
@@ -170,20 +200,23 @@ std::string GlScene::renderer() const { return renderer_.renderer(); }
 SceneRun run_scene(const Scene& scene, const RunOptions& options) {
   if (options.frames < 1) throw InvalidArgument("a benchmark needs at least one timed frame");
   keep_freed_memory();
-  const DrawState state = scene.state(options.width, options.height);
+  const int width = scene.layer_width(options.width);
+  const int height = scene.layer_height(options.height);
+  const DrawState state = scene.state(width, height);
   SceneRun run;
   SceneResult& result = run.result;
   result.name = scene.name;
   result.triangles = scene.triangle_count();
   result.draws = scene.draw_count();
-  result.width = options.width;
-  result.height = options.height;
+  result.width = width;
+  result.height = height;
+  result.layers = scene.layer_count();
   {
     ContextOptions profiled = options.context;
     profiled.profile = true;
     Context context(profiled);
-    ClrasterScene ours(context, scene, state, options.width, options.height);
-    GlScene theirs(scene, state, options.width, options.height);
+    ClrasterScene ours(context, scene, state, width, height);
+    GlScene theirs(scene, state, width, height);
     result.device = context.device().name;
     result.tile_size = context.options().tile_size;
     result.gl_renderer = theirs.renderer();
@@ -213,7 +246,7 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
     run.gl_picture = theirs.picture();
   }
   // Once the timed context is gone, so that the two do not hold the scene's memory at once.
-  result.first_frame_ms = time_first_frame(scene, state, options);
+  result.first_frame_ms = time_first_frame(scene, state, options, width, height);
   result.comparison = io::compare_images(run.clraster_picture, run.gl_picture, kTolerance);
   result.passed = io::within(result.comparison, kTolerance);
   return run;

@@ -3,12 +3,13 @@
 // picture.
 //
 // A frame is the same for both: clear to (0, 0, 0, 1) and depth 1, the scene's draws (one, or one
-// per part of a model) from buffers uploaded before, finish (Context::finish, glFinish), timed with
-// steady_clock around the three. Both draw
-// into an RGBA8 colour and a Depth32F depth attachment (no stencil to clear). Nothing is read back
-// inside a frame, and every clraster frame runs every pipeline stage: of an earlier frame the
-// library keeps only what it read of the index buffer, the largest index of the range and the index
-// ranges of its blocks of primitives (block culling), which cannot change.
+// per part of a model; a scene of views is one draw for clraster, one per view for OpenGL) from
+// buffers uploaded before, finish (Context::finish, glFinish), timed with steady_clock around the
+// three. Both draw into an RGBA8 colour and a Depth32F depth attachment (no stencil to clear; a
+// scene of views: clraster's layered framebuffer's Depth32FStencil8, its stencil unused). Nothing
+// is read back inside a frame, and every clraster frame runs every pipeline stage: of an earlier
+// frame the library keeps only what it read of the index buffer, the largest index of the range
+// and the index ranges of its blocks of primitives (block culling), which cannot change.
 // The process keeps the memory it frees (glibc's trim threshold raised), so that neither renderer
 // pays for paging in again, each frame, memory it freed in the previous one (runner.cpp).
 #pragma once
@@ -44,8 +45,9 @@ struct SceneResult {
   std::string name;
   std::uint64_t triangles = 0;
   std::size_t draws = 0;
-  int width = 0;
+  int width = 0;  // of a layer: a scene of views draws `layers` (Scene::layer_width)
   int height = 0;
+  int layers = 1;
   std::string device;       // clraster's OpenCL device
   int tile_size = 0;        // and the tile size its context took
   std::string gl_renderer;  // GL_RENDERER and GL_VERSION
@@ -77,9 +79,11 @@ struct SceneRun {
 // A scene on llvmpipe as the benchmark draws it, through the OpenGL oracle: its mesh with its
 // built-in shading in one draw, or its model with the material program part by part, as the
 // command line draws models (frontend::GlMaterialDraws), a frame as `render --backend gl` draws one
-// (frontend::draw_gl_frame). bench/gl_minimal.cpp times it against OpenGL used directly.
+// (frontend::draw_gl_frame); a scene of views in one picture of its layers side by side, a draw per
+// view with the viewport on its layer. bench/gl_minimal.cpp times it against OpenGL used directly.
 class GlScene {
  public:
+  // width x height: a layer's size (Scene::layer_width).
   GlScene(const Scene& scene, const DrawState& state, int width, int height);
   GlScene(const GlScene&) = delete;  // the material draws point into the model
   GlScene& operator=(const GlScene&) = delete;
@@ -103,6 +107,8 @@ class GlScene {
     oracle::GlDrawCall call;
   };
   std::optional<Instanced> instanced_;
+  // Or a scene of views: `mesh_` drawn with each view's state, its camera and its layer's viewport.
+  std::vector<DrawState> view_states_;
 };
 
 // Has the process keep the memory it frees (runner.cpp says why); run_scene calls it.

@@ -3,7 +3,11 @@
 #include "io/image_io.hpp"
 #include "io/procedural.hpp"
 
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -180,6 +184,25 @@ std::vector<float> sphere_grid() {
   return placements;
 }
 
+// 64 cameras around a model, 8 elevations (-70 to 70 degrees, 20 apart) by 8 azimuths (45 apart)
+// about the y axis, each at the distance at which `render` frames it in a square picture: the
+// whole model in each view, the knot over 23% to 38% of it.
+std::vector<io::Camera> orbit(const io::Model& model) {
+  const io::Camera framed = io::fit_camera(io::bounding_sphere(model), 1.0f);
+  const float distance = glm::length(framed.eye - framed.target);
+  std::vector<io::Camera> cameras;
+  for (int elevation = 0; elevation < 8; ++elevation) {
+    for (int azimuth = 0; azimuth < 8; ++azimuth) {
+      const float up = glm::radians(-70.0f + 20.0f * float(elevation));
+      const float around = glm::radians(45.0f * float(azimuth));
+      io::Camera& camera = cameras.emplace_back(framed);
+      camera.eye = framed.target + distance * glm::vec3(std::cos(up) * std::sin(around), std::sin(up),
+                                                        std::cos(up) * std::cos(around));
+    }
+  }
+  return cameras;
+}
+
 // assimp's engine as the command line loads it.
 io::Model engine() {
   std::vector<std::string> warnings;
@@ -196,10 +219,11 @@ struct SceneDefinition {
   std::string name;
   io::Model (*model)();
   // None: framed as `render` frames a model by default (io::fit_camera), at kDesignAspect.
-  std::optional<io::Camera> camera;
+  std::optional<io::Camera> camera{};
   io::BuiltinShading shading = io::BuiltinShading::Normal;  // for scenes without parts
   const char* model_file = nullptr;                         // for a scene loaded from a file
   std::vector<float> (*instances)() = nullptr;              // for an instanced scene
+  std::vector<io::Camera> (*views)(const io::Model&) = nullptr;  // for a scene of views
 };
 
 // A missing model file is an error, not a scene left out: a run that quietly drew fewer scenes
@@ -233,6 +257,7 @@ const std::vector<SceneDefinition>& definitions() {
       {"engine-glb", engine, std::nullopt, BuiltinShading::Normal, kEngineModel},
       {"instanced-4k", instanced_sphere, camera({0.0f, -2.6f, 3.6f}, {0.0f, -0.2f, 0.0f}, 45, 1.0f, 10.0f),
        BuiltinShading::Normal, nullptr, sphere_grid},
+      {.name = "views-64", .model = [] { return model_of(knot()); }, .views = orbit},
   };
   return scenes;
 }
@@ -251,6 +276,40 @@ const SceneDefinition& definition(const std::string& name) {
 
 DrawState Scene::state(int width, int height) const {
   return io::shading_state(shading, camera, static_cast<float>(width) / static_cast<float>(height));
+}
+
+int Scene::layer_width(int width) const { return draws_views() ? kViewSide : width; }
+int Scene::layer_height(int height) const { return draws_views() ? kViewSide : height; }
+
+int Scene::layer_columns() const {
+  int columns = 1;  // the smallest square grid that holds the layers, as Framebuffer's
+  while (columns * columns < layer_count()) ++columns;
+  return columns;
+}
+
+int Scene::layer_rows() const { return (layer_count() + layer_columns() - 1) / layer_columns(); }
+
+Rect Scene::layer_rect(int layer, int layer_width, int layer_height) const {
+  return {layer % layer_columns() * layer_width, layer / layer_columns() * layer_height, layer_width, layer_height};
+}
+
+std::vector<View> Scene::view_matrices() const {
+  std::vector<View> matrices;
+  for (const io::Camera& view : views) {
+    matrices.push_back({io::to_mat4(io::view_matrix(view)), io::to_mat4(io::projection_matrix(view, 1.0f))});
+  }
+  return matrices;
+}
+
+std::vector<DrawState> Scene::view_states(const DrawState& state, int width, int height) const {
+  std::vector<DrawState> states;
+  for (const View& view : view_matrices()) {
+    DrawState& drawn = states.emplace_back(state);
+    drawn.model_view = view.model_view;
+    drawn.projection = view.projection;
+    drawn.viewport = layer_rect(int(states.size()) - 1, width, height);
+  }
+  return states;
 }
 
 const std::vector<std::string>& scene_names() {
@@ -284,9 +343,12 @@ std::vector<std::string> parse_scene_list(const std::string& list) {
 Scene make_scene(const std::string& name) {
   const SceneDefinition& defined = definition(name);
   require_model_file(defined);
-  Scene scene{defined.name, defined.model(), {}, defined.shading};
+  Scene scene{.name = defined.name, .model = defined.model(), .shading = defined.shading};
   if (defined.instances) scene.instances = defined.instances();
-  scene.camera = defined.camera ? *defined.camera : io::fit_camera(io::bounding_sphere(scene.model), kDesignAspect);
+  if (defined.views) scene.views = defined.views(scene.model);
+  scene.camera = defined.camera     ? *defined.camera
+                 : scene.draws_views() ? scene.views.front()
+                                       : io::fit_camera(io::bounding_sphere(scene.model), kDesignAspect);
   return scene;
 }
 

@@ -24,6 +24,10 @@
 //   instanced-4k  a sphere of 1,280 triangles drawn 4,096 times in one instanced draw (5,242,880
 //               triangles), a 64 x 64 grid of them seen from above at an angle, each placed and
 //               sized by a per-instance attribute; normal shading, depth test
+//   views-64    model-50k's knot from 64 cameras around it (8 elevations by 8 azimuths), each view
+//               256x256 whatever the benchmark's size (64x256x256): one draw of 64 views into a
+//               layered framebuffer; llvmpipe draws the 64 into one picture of the layers side
+//               by side, a draw per view into its viewport; normal shading, depth test
 #pragma once
 
 #include <string>
@@ -37,26 +41,52 @@
 
 namespace clraster::bench {
 
+// The side of each view of a scene of views, in pixels.
+inline constexpr int kViewSide = 256;
+
 struct Scene {
   std::string name;
   // The triangles; a scene of materials has its materials and its parts as well.
   io::Model model;
-  io::Camera camera;
+  io::Camera camera{};
   // How a scene without parts is drawn, in one draw.
   io::BuiltinShading shading = io::BuiltinShading::Normal;
   // An instanced scene's placements, four floats an instance: x, y, z and a scale. Its model is
   // drawn once, instanced, with the instancing program (kInstancedProgram: normal shading of the
   // placed mesh).
-  std::vector<float> instances;
+  std::vector<float> instances{};
+  // A scene of views' cameras: its model drawn once from each, with `shading`, in one draw, view k
+  // into layer k of kViewSide x kViewSide pixels (its `camera` is the first view's).
+  std::vector<io::Camera> views{};
 
   // A scene with parts is drawn with the material program instead of with `shading`, a draw per
   // part.
   bool draws_materials() const { return !model.parts.empty(); }
   std::size_t draw_count() const { return draws_materials() ? model.parts.size() : 1; }
   std::uint32_t instance_count() const { return instances.empty() ? 1 : static_cast<std::uint32_t>(instances.size() / 4); }
-  std::uint64_t triangle_count() const { return model.triangle_count() * instance_count(); }
+  bool draws_views() const { return !views.empty(); }
+  int layer_count() const { return draws_views() ? static_cast<int>(views.size()) : 1; }
+  std::uint64_t triangle_count() const { return model.triangle_count() * instance_count() * layer_count(); }
 
-  // The fixed-function state of every draw for a width x height picture.
+  // A layer's size when the benchmark runs at width x height: a scene of views' are kViewSide
+  // square at any size, every other scene is one layer of that size.
+  int layer_width(int width) const;
+  int layer_height(int height) const;
+  // The layers of layer_width x layer_height side by side in one picture, as a layered Framebuffer
+  // holds them: layer l at column l % layer_columns(), row l / layer_columns(), from the bottom
+  // left (Framebuffer::layer_rect). OpenGL draws a scene of views into such a picture.
+  int layer_columns() const;
+  int layer_rows() const;
+  Rect layer_rect(int layer, int layer_width, int layer_height) const;
+
+  // The views as clraster takes them, each camera's matrices for a square layer.
+  std::vector<View> view_matrices() const;
+  // The views as OpenGL draws them, a draw each: `state` with the view's matrices, its viewport
+  // the view's layer_rect for layers of width x height. None for a scene without views.
+  std::vector<DrawState> view_states(const DrawState& state, int width, int height) const;
+
+  // The fixed-function state of every draw for layers of width x height pixels (its camera's
+  // matrices, which a scene of views' views replace).
   DrawState state(int width, int height) const;
 };
 

@@ -3,7 +3,8 @@
 // plane, culling, scissor, additive blending; and a user program shaded in quads (derivatives and
 // texture sampling exchange values between work-items) into two attachments with stencil, blending
 // and framebuffer fetch, instanced, with a texture whose mipmaps are generated on the device; and
-// mipmaps of a texture with odd sides; and a span program shaded in quads, sampling three textures.
+// mipmaps of a texture with odd sides; and a span program shaded in quads, sampling three textures;
+// and a draw with views into a layered framebuffer.
 // Run under Oclgrind by oclgrind_check.sh, which fails on any data race, out-of-bounds access or API
 // error Oclgrind reports (not on uninitialized reads: that plugin of Oclgrind 21.10 crashes), and
 // unless what Oclgrind drew is what the default device (PoCL) drew. With "wide", in the GPU's
@@ -77,6 +78,19 @@ int main(int argc, char** argv) {
     fan.state.cull = clraster::CullMode::Back;
     fan.state.shading = clraster::Shading::Lambert;
     target.draw(fan);
+
+    // The list again, from three cameras into the layers of a layered framebuffer, whose 13x9
+    // layers share tiles.
+    clraster::Framebuffer layered(context, 13, 9, 3);
+    layered.clear({0, 0, 0, 1}, 1.0f);
+    clraster::DrawCall views = list;
+    for (int k = 0; k < 3; ++k) {
+      clraster::Mat4 shifted = clraster::kIdentity;
+      shifted[12] = 0.3f * static_cast<float>(k - 1);
+      views.views.push_back({shifted, clraster::kIdentity, nullptr});
+    }
+    layered.draw(views);
+    keep(output, "views", layered.color(0).read());
 
     // Mipmaps of a texture with odd sides (5x3 -> 2x1 -> 1x1), in sRGB.
     std::vector<std::byte> odd_texels(5 * 3 * 4);

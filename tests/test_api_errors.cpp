@@ -338,6 +338,15 @@ TEST_F(RejectedDraw, DepthShadingRangeThatIsNotFiniteAndIncreasing) {
   }
 }
 
+TEST_F(RejectedDraw, MatricesThatAreNotFinite) {
+  DrawCall call{&vertices_};
+  call.state.model_view[13] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_TRUE(rejected(call, {"model_view has the non-finite value nan at element 13"}));
+  call = DrawCall{&vertices_};
+  call.state.projection[0] = -std::numeric_limits<float>::infinity();
+  EXPECT_TRUE(rejected(call, {"projection has the non-finite value -inf at element 0"}));
+}
+
 TEST_F(RejectedDraw, BuffersOfAnotherContext) {
   Context other;
   const VertexBuffer other_vertices(other, positions_, normals_);

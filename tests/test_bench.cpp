@@ -1,7 +1,7 @@
 // The benchmark behind `clraster bench`, without timing anything: its scenes have the triangles and
 // draws they advertise and are built the same every time, tiny-1m's are at most a pixel, the
-// cameras frame the scenes as described, the scenes of materials draw as llvmpipe does, and the
-// report leaves scenes that failed out of the geometric mean. (tests/test_cli.cpp runs the command
+// cameras frame the scenes as described, the scenes of materials and of views draw as llvmpipe
+// does, and the report leaves scenes that failed out of the geometric mean. (tests/test_cli.cpp runs the command
 // itself.)
 #include "bench/report.hpp"
 #include "bench/runner.hpp"
@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
@@ -45,7 +46,8 @@ double coverage(const Image& image) {
 
 TEST(BenchScenes, NamesInTheirOrder) {
   EXPECT_EQ(scene_names(), (std::vector<std::string>{"model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
-                                                     "textured-50k", "materials-256", "engine-glb", "instanced-4k"}));
+                                                     "textured-50k", "materials-256", "engine-glb", "instanced-4k",
+                                                     "views-64"}));
   EXPECT_EQ(parse_scene_list(""), scene_names());
   EXPECT_EQ(parse_scene_list("tiny-1m,model-50k"), (std::vector<std::string>{"tiny-1m", "model-50k"}));
   for (const char* list : {"teapot", "model-50k,teapot", "model-50k,", "Model-50k"}) {
@@ -55,7 +57,7 @@ TEST(BenchScenes, NamesInTheirOrder) {
     } catch (const InvalidArgument& error) {
       EXPECT_PRED_FORMAT2(::testing::IsSubstring,
                           "(scenes: model-50k, terrain-1m, terrain-4m, fill-16, tiny-1m, textured-50k, "
-                          "materials-256, engine-glb, instanced-4k)",
+                          "materials-256, engine-glb, instanced-4k, views-64)",
                           error.what());
     }
   }
@@ -102,7 +104,8 @@ INSTANTIATE_TEST_SUITE_P(
                       AdvertisedCount{"textured-50k", 2 * 500 * 50, 45'000, 55'000, 1},
                       AdvertisedCount{"materials-256", 2 * 500 * 50, 45'000, 55'000, 256},
                       AdvertisedCount{"engine-glb", 121'496, 100'000, 150'000, 108},
-                      AdvertisedCount{"instanced-4k", 4096 * 1280, 5'000'000, 5'300'000, 1}),
+                      AdvertisedCount{"instanced-4k", 4096 * 1280, 5'000'000, 5'300'000, 1},
+                      AdvertisedCount{"views-64", 64 * 2 * 500 * 50, 3'000'000, 3'300'000, 1}),
     [](const auto& info) {
       std::string name = info.param.name;
       std::replace(name.begin(), name.end(), '-', '_');
@@ -283,6 +286,102 @@ TEST(BenchScenes, InstancedSpheresAreDrawnAsLlvmpipeDrawsThem) {
   EXPECT_GT(coverage(run.clraster_picture), 0.3);
 }
 
+// A picture's part at `rect` (window coordinates, from the bottom left), rows from the top.
+Image part_of(const Image& picture, const Rect& rect) {
+  const auto row_bytes = std::size_t(rect.width) * 4;
+  Image part{rect.width, rect.height, std::vector<std::uint8_t>(row_bytes * std::size_t(rect.height))};
+  const int top = picture.height - rect.y - rect.height;
+  for (int y = 0; y < rect.height; ++y) {
+    const std::size_t from = (std::size_t(top + y) * std::size_t(picture.width) + std::size_t(rect.x)) * 4;
+    std::copy_n(&picture.rgba[from], row_bytes, &part.rgba[std::size_t(y) * row_bytes]);
+  }
+  return part;
+}
+
+// views-64's views each drawn on its own by llvmpipe, as a kViewSide-square picture.
+const std::vector<Image>& views_drawn_alone() {
+  static const std::vector<Image> pictures = [] {
+    const Scene& views = scene("views-64");
+    std::vector<Image> drawn;
+    for (DrawState state : views.view_states(views.state(kViewSide, kViewSide), kViewSide, kViewSide)) {
+      state.viewport = {};
+      drawn.push_back(test::render_gl(views.model, state, kViewSide, kViewSide));
+    }
+    return drawn;
+  }();
+  return pictures;
+}
+
+// views-64 is model-50k's knot seen from 64 directions, each 256x256 whatever the size, the whole
+// knot over a fifth to 45% of each view; built the same every time.
+TEST(BenchScenes, ViewsSeeTheWholeKnotFromSixtyFourDirections) {
+  const Scene& views = scene("views-64");
+  const Scene& plain = scene("model-50k");
+  EXPECT_EQ(views.model.positions, plain.model.positions);
+  EXPECT_EQ(views.model.indices, plain.model.indices);
+  EXPECT_FALSE(views.draws_materials());
+  ASSERT_TRUE(views.draws_views());
+  ASSERT_EQ(views.layer_count(), 64);
+  EXPECT_EQ(views.layer_width(kWidth), kViewSide);
+  EXPECT_EQ(views.layer_height(kHeight), kViewSide);
+  EXPECT_EQ(plain.layer_width(kWidth), kWidth);
+  EXPECT_EQ(views.view_matrices().size(), 64u);
+  for (std::size_t i = 0; i < views.views.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_GT(glm::length(views.views[i].eye - views.views[j].eye), 0.5f) << "views " << j << " and " << i;
+    }
+  }
+  const Scene again = make_scene("views-64");
+  ASSERT_EQ(again.views.size(), views.views.size());
+  for (std::size_t i = 0; i < views.views.size(); ++i) EXPECT_EQ(again.views[i].eye, views.views[i].eye) << i;
+
+  const std::vector<Image>& pictures = views_drawn_alone();
+  for (std::size_t view = 0; view < pictures.size(); ++view) {
+    EXPECT_GE(coverage(pictures[view]), 0.2) << "view " << view;
+    EXPECT_LE(coverage(pictures[view]), 0.45) << "view " << view;
+    EXPECT_FALSE(touches_edges(pictures[view])) << "view " << view;
+  }
+}
+
+// OpenGL draws the views where a layered Framebuffer of as many layers holds them.
+TEST(BenchScenes, ViewsAreLaidOutAsALayeredFramebufferHoldsThem) {
+  const Scene& views = scene("views-64");
+  const Framebuffer layered(test::shared_context(), kViewSide, kViewSide, views.layer_count());
+  EXPECT_EQ(views.layer_columns(), layered.layer_columns());
+  EXPECT_EQ(views.layer_columns(), 8);
+  EXPECT_EQ(views.layer_rows(), 8);
+  const auto fields = [](const Rect& rect) { return std::array<int, 4>{rect.x, rect.y, rect.width, rect.height}; };
+  const std::vector<DrawState> states = views.view_states(DrawState{}, kViewSide, kViewSide);
+  ASSERT_EQ(states.size(), 64u);
+  for (int layer = 0; layer < views.layer_count(); ++layer) {
+    EXPECT_EQ(fields(views.layer_rect(layer, kViewSide, kViewSide)), fields(layered.layer_rect(layer))) << layer;
+    EXPECT_EQ(fields(states[std::size_t(layer)].viewport), fields(layered.layer_rect(layer))) << layer;
+  }
+}
+
+// views-64 is one draw of 64 views on clraster and a draw per view on llvmpipe: the two grids of
+// views agree, and each view is its camera's picture where its layer is.
+TEST(BenchScenes, ViewsAreDrawnAsLlvmpipeDrawsThemEachWhereItsLayerIs) {
+  const Scene& views = scene("views-64");
+  const SceneRun run = run_small(views);  // at any size, 64 layers of 256x256
+  EXPECT_EQ(run.result.layers, 64);
+  EXPECT_EQ(run.result.width, kViewSide);
+  EXPECT_EQ(run.result.height, kViewSide);
+  EXPECT_EQ(run.result.draws, 1u);
+  EXPECT_EQ(run.result.triangles, 64u * 50'000u);
+  ASSERT_EQ(run.clraster_picture.width, 8 * kViewSide);
+  ASSERT_EQ(run.clraster_picture.height, 8 * kViewSide);
+  EXPECT_TRUE(run.result.passed) << "coverage mismatch " << run.result.comparison.coverage_mismatch
+                                 << ", colour mismatch " << run.result.comparison.colour_mismatch;
+  EXPECT_TRUE(test::images_match(run.clraster_picture, run.gl_picture, kTolerance));  // leaves the pictures
+  const std::vector<Image>& alone = views_drawn_alone();
+  for (int layer = 0; layer < views.layer_count(); ++layer) {
+    const Rect rect = views.layer_rect(layer, kViewSide, kViewSide);
+    EXPECT_TRUE(test::images_match(part_of(run.clraster_picture, rect), alone[std::size_t(layer)], kTolerance))
+        << "layer " << layer;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenes, BenchManyDraws, ::testing::Values("materials-256", "engine-glb"),
                          [](const auto& info) {
                            std::string name = info.param;
@@ -306,6 +405,26 @@ SceneResult result(const char* name, double clraster_ms, double gl_ms, bool pass
   r.passed = passed;
   r.comparison.coverage_mismatch = passed ? 0 : 0.25;
   return r;
+}
+
+TEST(BenchReport, ScenesOfViewsShowTheirLayers) {
+  SceneResult views = result("views", 2, 1, true);
+  views.width = views.height = 256;
+  views.layers = 64;
+  std::ostringstream table;
+  print_table_row(table, views);
+  print_table_foot(table, {views});
+  EXPECT_PRED_FORMAT2(::testing::IsSubstring, "64x256x256", table.str());
+  EXPECT_PRED_FORMAT2(::testing::IsSubstring, "LxWxH: L views of WxH pixels whatever the size", table.str());
+  const nlohmann::json json = nlohmann::json::parse(to_json(RunOptions{}, {views}));
+  EXPECT_EQ(json["scenes"][0]["layers"], 64);
+  EXPECT_EQ(json["scenes"][0]["width"], 256);
+
+  std::ostringstream one_layer;
+  print_table_row(one_layer, result("a", 2, 1, true));
+  print_table_foot(one_layer, {result("a", 2, 1, true)});
+  EXPECT_PRED_FORMAT2(::testing::IsSubstring, "1920x1080", one_layer.str());
+  EXPECT_PRED_FORMAT2(::testing::IsNotSubstring, "LxWxH", one_layer.str());
 }
 
 TEST(BenchReport, FailedScenesHaveNoRatioAndAreLeftOutOfTheMean) {

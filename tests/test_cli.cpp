@@ -142,7 +142,8 @@ TEST(CliInterface, BenchHelpNamesEveryOptionAndScene) {
   EXPECT_TRUE(succeeded(result));
   for (const char* option : {"--scenes", "--size", "--frames", "--json", "--device", "--memory-cap", "--tile-size",
                              "--pictures", "model-50k", "terrain-1m", "terrain-4m", "fill-16", "tiny-1m",
-                             "textured-50k", "materials-256", "engine-glb", "instanced-4k"}) {
+                             "textured-50k", "materials-256", "engine-glb", "instanced-4k", "views-64",
+                             "256x256 at any size"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
@@ -335,10 +336,11 @@ TEST(CliBench, JsonHasEachSceneWithItsTimesStagesAndVerdict) {
   for (std::size_t i = 0; i < expected.size(); ++i) {
     const json& scene = scenes[i];
     ASSERT_TRUE(has_keys(scene, {"name", "triangles", "draws", "clraster_ms", "llvmpipe_ms", "ratio", "stage_ms",
-                                 "first_frame_ms", "peak_memory_bytes", "passed"}));
+                                 "first_frame_ms", "peak_memory_bytes", "passed", "layers"}));
     EXPECT_EQ(scene["name"], expected[i].first);
     EXPECT_EQ(scene["triangles"], expected[i].second);
     EXPECT_EQ(scene["draws"], 1);
+    EXPECT_EQ(scene["layers"], 1);
     EXPECT_EQ(scene["passed"], true) << scene;
     EXPECT_GT(scene["clraster_ms"].get<double>(), 0);
     EXPECT_GT(scene["llvmpipe_ms"].get<double>(), 0);

@@ -293,9 +293,9 @@ TEST_F(ClipTest, SharedEdgesAreClippedToBitIdenticalPoints) {
 TEST_F(KernelTest, WindowCoordinatesSnapToOneTwoHundredFiftySixthOfAPixelAroundPixelCentres) {
   DrawState state;
   pipeline::RenderTarget target;
-  target.width = target.height = 256;
+  target.width = target.height = target.layer_width = target.layer_height = 256;
   const std::string builtin = cl_sources::text("program/builtin/normal.cl");
-  DrawUniforms u = pipeline::make_uniforms(state, target, program::parse_program(builtin, "normal.cl"));  // NDC x -> (x + 1) * 128
+  DrawUniforms u = pipeline::make_uniforms(state, target, program::parse_program(builtin, "normal.cl"), 0);  // NDC x -> (x + 1) * 128
   cl::Buffer uniforms = buffer(std::vector<DrawUniforms>{u});
   // Window x = 10.5 (a pixel centre) -> fixed 10 * 256; x = 10.5 + 1/256 -> 2561; x = 0 -> -128;
   // halfway between two 1/256 steps rounds to even; w = 0 cannot be projected.

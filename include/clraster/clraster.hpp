@@ -651,9 +651,9 @@ class Framebuffer {
   // Renders one draw call into this framebuffer. Draws are applied in the order they are made.
   DrawStats draw(const DrawCall& call);
   // Renders a frame: the calls in order, as if drawn one after the other, every one checked before
-  // any renders. Consecutive calls (and each call's instances) that share a program, its textures
-  // and buffers, and the state rasterization reads (depth, stencil, blending, the viewport and
-  // scissor rectangle) are binned together and rasterized in one pass over the tiles, so that many
+  // any renders. Consecutive calls (and each call's instances and views) that share a program, its
+  // textures and buffers, and the state rasterization reads (depth, stencil, blending; not the
+  // viewport or scissor) are binned together and rasterized in one pass over the tiles, so that many
   // small draws cost about what one draw of all their triangles costs. The statistics are the frame's.
   DrawStats draw(std::span<const DrawCall> calls);
 

@@ -42,9 +42,20 @@ void check_shading(const DrawState& s) {
   }
 }
 
+void check_finite(const char* name, const Mat4& matrix) {
+  for (std::size_t k = 0; k < matrix.size(); ++k) {
+    if (!std::isfinite(matrix[k])) {
+      throw InvalidArgument(std::string(name) + " has the non-finite value " + std::to_string(matrix[k]) +
+                            " at element " + std::to_string(k));
+    }
+  }
+}
+
 // The uniforms of the built-in program of s.shading (program/builtin/), from the state's shading
 // inputs.
 Bindings builtin_bindings(const Program& program, const DrawState& s) {
+  check_finite("model_view", s.model_view);
+  check_finite("projection", s.projection);
   Bindings b(program);
   b.set("mvp", pipeline::model_view_projection(s));
   switch (s.shading) {
@@ -153,17 +164,24 @@ void resolve_bindings(const Bindings::Impl& bindings, const Program::Impl& progr
   }
 }
 
-// Resolves `call`'s public objects into what the pipeline reads, checking each against the program.
-pipeline::DrawSource resolve_draw(ContextState& state, const Framebuffer::Impl& framebuffer, const DrawCall& call) {
+// Resolves `call`'s public objects into what the pipeline reads, checking each against the program;
+// for one of its views, with that view's camera or bindings.
+pipeline::DrawSource resolve_draw(ContextState& state, const Framebuffer::Impl& framebuffer, const DrawCall& call,
+                                  const View* view) {
   if (call.program == nullptr) check_shading(call.state);
   const Program& program = call.program != nullptr ? *call.program : state.builtin_program(call.state.shading);
   Program::Impl& compiled = program.impl();
   check_same_context(state, compiled.state, "program " + compiled.file_name);
   std::optional<Bindings> builtin;
-  const Bindings* bindings = call.bindings;
+  const Bindings* bindings = view != nullptr && view->bindings != nullptr ? view->bindings : call.bindings;
   if (call.program == nullptr) {
     if (bindings != nullptr) throw InvalidArgument("a draw with bindings needs the program they are for");
-    bindings = &builtin.emplace(builtin_bindings(program, call.state));
+    DrawState camera = call.state;
+    if (view != nullptr) {
+      camera.model_view = view->model_view;
+      camera.projection = view->projection;
+    }
+    bindings = &builtin.emplace(builtin_bindings(program, camera));
   }
   const ProgramInterface& in = compiled.parsed.interface;
   const bool declares_resources = !in.uniforms.empty() || !in.textures.empty() || !in.buffers.empty();
@@ -207,8 +225,12 @@ pipeline::DrawSource resolve_draw(ContextState& state, const Framebuffer::Impl& 
 
 pipeline::RenderTarget render_target(const Framebuffer::Impl& framebuffer) {
   pipeline::RenderTarget target;
-  target.width = framebuffer.width;
-  target.height = framebuffer.height;
+  target.layer_width = framebuffer.width;
+  target.layer_height = framebuffer.height;
+  target.layer_columns = framebuffer.layer_columns;
+  const Texture& first = framebuffer.colors.empty() ? *framebuffer.depth_stencil : *framebuffer.colors.front();
+  target.width = first.width();
+  target.height = first.height();
   for (Texture* color : framebuffer.colors) {
     target.colors.push_back(color->impl().data);
     target.formats.push_back(static_cast<int>(color->format()));
@@ -233,14 +255,27 @@ DrawStats Framebuffer::draw(std::span<const DrawCall> calls) {
   return translate_cl_errors([&] {
     const pipeline::RenderTarget target = render_target(*impl_);
     pipeline::Pipeline& pipeline = state.get_pipeline();
-    // Every draw is checked before any renders.
+    // Every draw is checked before any renders. A draw renders once into each layer, as a draw of
+    // its own for each view.
+    const auto layers = static_cast<std::size_t>(impl_->layers);
     std::vector<pipeline::DrawSource> sources;
-    sources.reserve(calls.size());  // the frame's draws point into it
+    sources.reserve(calls.size() * layers);  // the frame's draws point into it
     std::vector<pipeline::FrameDraw> draws;
-    draws.reserve(calls.size());
+    draws.reserve(calls.size() * layers);
     for (const DrawCall& call : calls) {
-      sources.push_back(resolve_draw(state, *impl_, call));
-      draws.push_back(pipeline.prepare(target, sources.back(), call.first, call.count, call.state));
+      if (!call.views.empty() && call.views.size() != layers) {
+        throw InvalidArgument("the draw has " + std::to_string(call.views.size()) + " views but the framebuffer has " +
+                              std::to_string(layers) + " layers: give one view per layer, or none");
+      }
+      for (std::size_t view = 0; view < layers; ++view) {
+        const View* v = call.views.empty() ? nullptr : &call.views[view];
+        if (v != nullptr && v->bindings != nullptr && call.program == nullptr) {
+          throw InvalidArgument("view " + std::to_string(view) + " has bindings but the draw has no program");
+        }
+        sources.push_back(resolve_draw(state, *impl_, call, v));
+        draws.push_back(pipeline.prepare(target, sources.back(), call.first, call.count, call.state,
+                                         static_cast<std::uint32_t>(view)));
+      }
     }
     return pipeline.render(target, draws);
   });

@@ -155,7 +155,9 @@ int main(int argc, char** argv) {
   bench->add_option("--scenes", bench_options.scenes,
                     "Comma-separated scenes to run, of " + bench::scene_names_text() + " (default: all)")
       ->option_text("NAME,...");
-  bench->add_option("--size", bench_size, kSizeHelp)->capture_default_str();
+  const std::string view_size = std::to_string(bench::kViewSide) + "x" + std::to_string(bench::kViewSide);
+  bench->add_option("--size", bench_size, kSizeHelp + " (views-64's 64 views are " + view_size + " at any size)")
+      ->capture_default_str();
   bench
       ->add_option("--frames", bench_options.frames,
                    "Timed frames of each renderer per scene, after " + std::to_string(bench::kWarmupFrames) +

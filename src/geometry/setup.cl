@@ -50,7 +50,8 @@ CLR_INLINE void write_setup_triangle(const WindowVertex* v0, const WindowVertex*
   area = area > 0 ? area : -area;
 
   SetupTriangle t;
-  t.flags = (front ? CLR_TRIANGLE_FRONT_FACING : 0u) | u->batch_draw << CLR_TRIANGLE_DRAW_SHIFT;
+  t.flags = (front ? CLR_TRIANGLE_FRONT_FACING : 0u) | u->batch_draw << CLR_TRIANGLE_DRAW_SHIFT |
+            u->view << CLR_TRIANGLE_VIEW_SHIFT;
 #pragma unroll
   for (int k = 0; k < 3; ++k) {
     /* Edge k runs from vertex k+1 to vertex k+2, opposite vertex k. */

@@ -47,6 +47,7 @@ __kernel void vertex_shade(__global const uchar* indices, SlotMap slots, uint ma
     clr_vertex v = {0};
     v.vertex_id = vertex_index;
     v.instance_id = instance;
+    v.view_id = u->view;
     CLR_FETCH_ATTRIBUTES(v.in, vertex_index, instance, draw);
     v.position = (float4)(0.0f, 0.0f, 0.0f, 1.0f);
     CLR_BIND_RESOURCES(v, draw);

@@ -127,12 +127,18 @@ std::array<float, 9> normal_matrix(const Mat4& m) {
   return result;
 }
 
-DrawUniforms make_uniforms(const DrawState& s, const RenderTarget& target, const program::ParsedProgram& program) {
+DrawUniforms make_uniforms(const DrawState& s, const RenderTarget& target, const program::ParsedProgram& program,
+                           std::uint32_t view) {
   DrawUniforms u{};
-  const int width = target.width;
-  const int height = target.height;
+  const int width = target.layer_width;
+  const int height = target.layer_height;
+  // The layer's origin in the attachments: viewport and scissor move with it.
+  const int layer_x = static_cast<int>(view) % target.layer_columns * width;
+  const int layer_y = static_cast<int>(view) / target.layer_columns * height;
   check_rect("viewport", s.viewport, CLR_MAX_FRAMEBUFFER_SIZE, CLR_MAX_VIEWPORT_OFFSET);
-  const Rect viewport = (s.viewport.width == 0 || s.viewport.height == 0) ? Rect{0, 0, width, height} : s.viewport;
+  Rect viewport = (s.viewport.width == 0 || s.viewport.height == 0) ? Rect{0, 0, width, height} : s.viewport;
+  viewport.x += layer_x;
+  viewport.y += layer_y;
   u.viewport_scale[0] = static_cast<float>(viewport.width) * 0.5f;
   u.viewport_scale[1] = static_cast<float>(viewport.height) * 0.5f;
   u.viewport_offset[0] = static_cast<float>(viewport.x) + u.viewport_scale[0];
@@ -143,22 +149,27 @@ DrawUniforms make_uniforms(const DrawState& s, const RenderTarget& target, const
     u.guard_max[axis] = (CLR_GUARD_BAND_PIXELS - u.viewport_offset[axis]) / u.viewport_scale[axis];
   }
 
-  int x0 = std::max(0, viewport.x), y0 = std::max(0, viewport.y);
-  int x1 = std::min(width, viewport.x + viewport.width), y1 = std::min(height, viewport.y + viewport.height);
+  int x0 = std::max(layer_x, viewport.x), y0 = std::max(layer_y, viewport.y);
+  int x1 = std::min(layer_x + width, viewport.x + viewport.width);
+  int y1 = std::min(layer_y + height, viewport.y + viewport.height);
   if (s.scissor_test) {
     check_rect("scissor", s.scissor, CLR_MAX_FRAMEBUFFER_SIZE, CLR_MAX_VIEWPORT_OFFSET);
-    x0 = std::max(x0, s.scissor.x);
-    y0 = std::max(y0, s.scissor.y);
-    x1 = std::min(x1, s.scissor.x + s.scissor.width);
-    y1 = std::min(y1, s.scissor.y + s.scissor.height);
+    x0 = std::max(x0, layer_x + s.scissor.x);
+    y0 = std::max(y0, layer_y + s.scissor.y);
+    x1 = std::min(x1, layer_x + s.scissor.x + s.scissor.width);
+    y1 = std::min(y1, layer_y + s.scissor.y + s.scissor.height);
   }
   u.clip_rect[0] = x0;
   u.clip_rect[1] = y0;
   u.clip_rect[2] = std::max(x0, x1);
   u.clip_rect[3] = std::max(y0, y1);
-  u.framebuffer_size[0] = width;
-  u.framebuffer_size[1] = height;
-  u.streaming_stores = std::int64_t{width} * height >= CLR_STREAMING_STORE_PIXELS;
+  u.framebuffer_size[0] = target.width;
+  u.framebuffer_size[1] = target.height;
+  u.streaming_stores = std::int64_t{target.width} * target.height >= CLR_STREAMING_STORE_PIXELS;
+  u.view = view;
+  u.layer_size[0] = width;
+  u.layer_size[1] = height;
+  u.layer_columns = target.layer_columns;
 
   u.topology = s.topology == Topology::TriangleList    ? CLR_TOPOLOGY_LIST
                : s.topology == Topology::TriangleStrip ? CLR_TOPOLOGY_STRIP

@@ -19,8 +19,10 @@ Mat4 model_view_projection(const DrawState& state);
 std::array<float, 9> normal_matrix(const Mat4& model_view);
 
 // Throws InvalidArgument naming the field and value for anything out of range, or for state the
-// program cannot serve (a Program depth function or blend equation it does not define).
-DrawUniforms make_uniforms(const DrawState& state, const RenderTarget& target, const program::ParsedProgram& program);
+// program cannot serve (a Program depth function or blend equation it does not define). The
+// viewport and scissor are within layer `view` of the target.
+DrawUniforms make_uniforms(const DrawState& state, const RenderTarget& target, const program::ParsedProgram& program,
+                           std::uint32_t view);
 
 // The index in CLR_COMMON_BLENDS (types.h) of blend state `b` on an attachment of format `format`
 // (CLR_FORMAT_*), or CLR_NOT_COMMON_BLEND: the blends the rasterizer runs with their state compiled in.

@@ -66,11 +66,25 @@ DrawUniforms raster_state(DrawUniforms u) {
   std::fill(std::begin(u.guard_min), std::end(u.guard_min), 0.0f);
   std::fill(std::begin(u.guard_max), std::end(u.guard_max), 0.0f);
   u.topology = u.index_size = u.cull = u.front_face_ccw = 0;
-  u.first = u.instance = u.batch_draw = 0;
+  u.first = u.instance = u.batch_draw = u.view = 0;
+  // Set-up keeps each triangle within its draw's clip rectangle; the pass loads and stores the union.
+  std::fill(std::begin(u.clip_rect), std::end(u.clip_rect), 0);
   for (auto& color : u.clear_color) std::fill(std::begin(color), std::end(color), 0u);
   u.clear_depth = 0.0f;
   u.clear_stencil = 0;
   return u;
+}
+
+// Grows `into`'s clip rectangle to the smallest that holds `u`'s too (empty ones hold nothing).
+void unite_clip_rects(DrawUniforms& into, const DrawUniforms& u) {
+  const auto empty = [](const DrawUniforms& d) { return d.clip_rect[0] >= d.clip_rect[2] || d.clip_rect[1] >= d.clip_rect[3]; };
+  if (empty(u)) return;
+  if (empty(into)) {
+    std::copy(std::begin(u.clip_rect), std::end(u.clip_rect), std::begin(into.clip_rect));
+    return;
+  }
+  for (int k = 0; k < 2; ++k) into.clip_rect[k] = std::min(into.clip_rect[k], u.clip_rect[k]);
+  for (int k = 2; k < 4; ++k) into.clip_rect[k] = std::max(into.clip_rect[k], u.clip_rect[k]);
 }
 
 bool same_buffers(const std::vector<cl::Buffer>& a, const std::vector<cl::Buffer>& b) {
@@ -158,7 +172,7 @@ std::uint32_t Pipeline::last_offset_within(const cl::Buffer& offsets, std::uint3
 }
 
 FrameDraw Pipeline::prepare(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
-                            std::uint32_t count, const DrawState& state) {
+                            std::uint32_t count, const DrawState& state, std::uint32_t view) {
   queue_.set_stage(cl_host::Stage::Other);
   const program::ParsedProgram& program = *source.program;
   const bool indexed = source.index_size != 0;
@@ -188,7 +202,7 @@ FrameDraw Pipeline::prepare(const RenderTarget& target, const DrawSource& source
 
   FrameDraw draw;
   draw.source = &source;
-  draw.uniforms = make_uniforms(state, target, program);
+  draw.uniforms = make_uniforms(state, target, program, view);
   draw.uniforms.index_size = source.index_size;
   draw.uniforms.first = first;
   draw.topology = draw.uniforms.topology;
@@ -259,11 +273,20 @@ void Pipeline::take_dropped(std::uint32_t counted) {
   cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
 }
 
+Pipeline::RasterInputs Pipeline::raster_inputs(const RenderTarget& target, const DrawSource& source) {
+  RasterInputs raster;
+  raster.target = &target;
+  raster.stages = source.stages;
+  raster.outputs = source.program->interface.outputs.size();
+  raster.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, source.stages->tile_size));
+  raster.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, source.stages->tile_size));
+  return raster;
+}
+
 Pipeline::Pass Pipeline::start_pass(const RenderTarget& target, const FrameDraw& draw, std::uint64_t primitives) const {
   const program::ParsedProgram& program = *draw.source->program;
-  const int tile_size = draw.source->stages->tile_size;
-  const auto tiles = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, tile_size) *
-                                                cl_host::divide_round_up(target.height, tile_size));
+  const RasterInputs grid = raster_inputs(target, *draw.source);
+  const std::uint32_t tiles = grid.tiles_x * grid.tiles_y;
   Pass pass;
   PlanInput input;
   input.memory_cap = memory_cap_;
@@ -353,6 +376,10 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
   }
   const std::uint32_t clears = pending_clears(target, lead_source.program->interface.outputs.size(), draw_table[0]);
   const cl::Buffer draws = table(draw_table.data(), entries * sizeof(DrawUniforms));
+  // The raster stage reads the lead's state (raster_state: the same for every entry) over the union
+  // of the entries' clip rectangles, the layers of a draw's views for one.
+  DrawUniforms raster_uniforms = draw_table[0];
+  for (const DrawUniforms& u : draw_table) unite_clip_rects(raster_uniforms, u);
   const cl::Buffer attribute_descs = table(attribute_table.data(), attribute_table.size() * sizeof(AttributeDesc));
   stages::ProgramResources resources;
   resources.uniform_block = table(uniform_table.data(), uniform_table.size());
@@ -449,14 +476,9 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
   }
   ++stats.chunks;
   stats.tile_triangle_pairs += pairs;
-  RasterInputs raster;
-  raster.target = &target;
-  raster.stages = &stages;
-  raster.outputs = lead_source.program->interface.outputs.size();
-  raster.draws = draws;
+  RasterInputs raster = raster_inputs(target, lead_source);
+  raster.draws = table(&raster_uniforms, sizeof raster_uniforms);
   raster.resources = &resources;
-  raster.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, stages.tile_size));
-  raster.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, stages.tile_size));
   raster.pair_capacity = pass.plan.pair_capacity;
   raster.clears = clears;
   if (pairs > 0) bin_and_rasterize(raster, {records, bin_boxes, overflow, clipped_offsets, pair_offsets}, count, pairs);
@@ -470,12 +492,8 @@ void Pipeline::draw_chunked(const RenderTarget& target, const FrameDraw& draw, s
   chunked.draw = &draw;
   chunked.shaded_vertex_bytes = program::shaded_vertex_bytes(program);
   chunked.setup_triangle_bytes = program::setup_triangle_bytes(program);
+  chunked.raster = raster_inputs(target, source);
   RasterInputs& raster = chunked.raster;
-  raster.target = &target;
-  raster.stages = source.stages;
-  raster.outputs = program.interface.outputs.size();
-  raster.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, source.stages->tile_size));
-  raster.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, source.stages->tile_size));
   chunked.plan = plan_memory({memory_cap_, buffer_bytes_, draw.vertex_count, draw.indexed(), draw.topology,
                               draw.primitives, raster.tiles_x * raster.tiles_y, chunked.shaded_vertex_bytes,
                               chunked.setup_triangle_bytes});

@@ -49,8 +49,13 @@ struct RenderTarget {
   cl::Buffer depth_stencil;  // null when there is no depth attachment
   bool has_stencil = false;
   std::uint32_t stencil_offset = 0;
-  int width = 0;
+  int width = 0;   // of the attachments
   int height = 0;
+  // Layers side by side in the attachments, layer l at column l % layer_columns (Framebuffer's
+  // layer_rect); unlayered, one layer of width x height.
+  int layer_width = 0;
+  int layer_height = 0;
+  int layer_columns = 1;
   // The attachments' clears not written yet: the draw's first raster pass writes those of the
   // attachments it renders to, and marks them written.
   std::vector<resources::PendingClear*> color_clears;  // per colour attachment
@@ -114,7 +119,7 @@ class Pipeline {
   // Checks a draw (element ranges, indices, instances) without rendering anything. `source` must
   // outlive the render of the frame.
   FrameDraw prepare(const RenderTarget& target, const DrawSource& source, std::uint32_t first, std::uint32_t count,
-                    const DrawState& state);
+                    const DrawState& state, std::uint32_t view);
   // Renders prepared draws, in order, into `target`.
   DrawStats render(const RenderTarget& target, const std::vector<FrameDraw>& draws);
 
@@ -151,6 +156,8 @@ class Pipeline {
     std::uint64_t pair_capacity = 0;
     std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
   };
+  // The target, the program's stages and outputs, and the tile grid of the program's tile size.
+  static RasterInputs raster_inputs(const RenderTarget& target, const DrawSource& source);
   // A chunk's or pass's set-up triangles, ready for binning.
   struct ChunkTriangles {
     cl::Buffer records;          // per primitive

@@ -125,6 +125,7 @@ void emit_interface(InterfaceWriter& w, const ParsedProgram& p) {
 typedef struct {
   uint vertex_id;        /* the index (indexed draws) or first + position (non-indexed) */
   uint instance_id;
+  uint view_id;          /* the view drawn: its layer of a layered framebuffer (DrawCall::views) */
   clr_attributes in;
   float4 position;       /* out: clip-space position */
   clr_varyings out;      /* out: interpolated for the fragment program */
@@ -136,10 +137,11 @@ typedef struct {
 /* What the fragment program reads and writes. */
 typedef struct {
   clr_varyings in;
-  float4 frag_coord;     /* window x, y of the pixel centre, depth z, and 1 / clip w */
+  float4 frag_coord;     /* window x, y of the pixel centre (in its layer), depth z, and 1 / clip w */
   float3 barycentric;    /* perspective-correct weights of the triangle's three vertices */
   float frag_depth;      /* out: the depth tested and written; starts as frag_coord.z */
   uint primitive_id;     /* the primitive's index in the draw (per instance) */
+  uint view_id;          /* as the vertex program's */
   bool front_facing;
   bool helper;           /* a helper invocation of quad shading: its results are thrown away */
   bool discarded;        /* set by clr_discard */
@@ -163,6 +165,7 @@ typedef struct {
   clr_span_float3 barycentric;
   clr_span_int written;        /* the lanes whose fragments passed the tests; the others are thrown away */
   uint primitive_id;
+  uint view_id;
   bool front_facing;
   clr_span_program_outputs out; /* out: one value per colour attachment */
   __constant const clr_uniforms* uniforms;

@@ -12,6 +12,12 @@
 #include "raster/span.cl"
 #include "shared/types.h"
 
+/* Where the layer of triangle t's view starts in the attachments: fragment coordinates are within it. */
+static inline float2 layer_origin(const __local SetupTriangle* t, __constant const DrawUniforms* u) {
+  const int view = (int)(t->flags >> CLR_TRIANGLE_VIEW_SHIFT);
+  return convert_float2((int2)(view % u->layer_columns * u->layer_size[0], view / u->layer_columns * u->layer_size[1]));
+}
+
 /* The fragment of triangle t in lane `lane` of the span at `place`, from the span's interpolants.
  * helper: a helper invocation of quad shading. */
 CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, span_weights w,
@@ -19,11 +25,13 @@ CLR_INLINE void start_fragment(clr_fragment* f, const __local SetupTriangle* t, 
   const float3 pw = (float3)(CLR_SPAN_LANE(float, s->pw[0], lane), CLR_SPAN_LANE(float, s->pw[1], lane),
                              CLR_SPAN_LANE(float, s->pw[2], lane));
   const float z = CLR_SPAN_LANE(float, w.z, lane);
-  f->frag_coord = (float4)((float)CLR_PLACE_LANE_X(*place, lane) + 0.5f, (float)CLR_PLACE_LANE_Y(*place, lane) + 0.5f, z,
-                           CLR_SPAN_LANE(float, s->inv_w, lane));
+  const float2 origin = layer_origin(t, f->clr_draw);
+  f->frag_coord = (float4)((float)CLR_PLACE_LANE_X(*place, lane) + 0.5f - origin.x,
+                           (float)CLR_PLACE_LANE_Y(*place, lane) + 0.5f - origin.y, z, CLR_SPAN_LANE(float, s->inv_w, lane));
   f->barycentric = pw * CLR_SPAN_LANE(float, s->norm, lane);
   f->frag_depth = z;
   f->primitive_id = t->primitive_id;
+  f->view_id = t->flags >> CLR_TRIANGLE_VIEW_SHIFT;
   f->front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
   f->helper = helper;
   f->discarded = false;
@@ -47,8 +55,9 @@ CLR_INLINE void shade_span(const clr_fragment* f, const __local SetupTriangle* t
                            clr_span_outputs* outputs) {
   clr_span_fragment g;
   clr_span_program_inputs(t, s->varyings, &g.in);
-  g.frag_coord.x = CLR_SPAN_CONVERT(float, CLR_PLACE_X(*place)) + 0.5f;
-  g.frag_coord.y = CLR_SPAN_CONVERT(float, CLR_PLACE_Y(*place)) + 0.5f;
+  const float2 origin = layer_origin(t, f->clr_draw);
+  g.frag_coord.x = CLR_SPAN_CONVERT(float, CLR_PLACE_X(*place)) + (0.5f - origin.x);
+  g.frag_coord.y = CLR_SPAN_CONVERT(float, CLR_PLACE_Y(*place)) + (0.5f - origin.y);
   g.frag_coord.z = w.z;
   g.frag_coord.w = s->inv_w;
   g.barycentric.x = s->pw[0] * s->norm;
@@ -56,6 +65,7 @@ CLR_INLINE void shade_span(const clr_fragment* f, const __local SetupTriangle* t
   g.barycentric.z = s->pw[2] * s->norm;
   g.written = written;
   g.primitive_id = t->primitive_id;
+  g.view_id = t->flags >> CLR_TRIANGLE_VIEW_SHIFT;
   g.front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
   const clr_span_program_outputs no_outputs = {0};
   g.out = no_outputs;
@@ -84,7 +94,7 @@ CLR_INLINE void shade_lane(clr_fragment* f, const __local SetupTriangle* t, span
 CLR_INLINE void process_span(const __local SetupTriangle* t, const clr_span_place* place, clr_span_int covered,
                              clr_fragment* f, __local uint* tile_color, __local float* tile_depth,
                              __local uchar* tile_stencil, __constant const DrawUniforms* u) {
-  f->uniforms = f->clr_uniform_table + (t->flags >> CLR_TRIANGLE_DRAW_SHIFT); /* the triangle's draw's */
+  f->uniforms = f->clr_uniform_table + ((t->flags >> CLR_TRIANGLE_DRAW_SHIFT) & CLR_TRIANGLE_DRAW_MASK); /* its draw's */
   span_weights w = {0};
   const bool front_facing = (t->flags & CLR_TRIANGLE_FRONT_FACING) != 0;
   clr_span_outputs outputs = {0};

@@ -219,6 +219,9 @@ typedef struct {
   clr_uint first;               /* first element (index or vertex) of the draw */
   clr_uint instance;            /* the instance being drawn */
   clr_uint batch_draw;          /* this draw's entry in its pass's table of draws (raster_tiles' triangles carry it) */
+  clr_uint view;                /* the view drawn, view_id: into layer `view` of a layered framebuffer */
+  clr_int layer_size[2];        /* width, height of a layer (the framebuffer's, unlayered) */
+  clr_int layer_columns;        /* layers per row of the attachments: layer l starts at column l % layer_columns */
   clr_int cull;
   clr_int front_face_ccw;
   clr_int depth_test;           /* enabled and there is a depth attachment */
@@ -287,9 +290,12 @@ typedef struct {
  * equals 2 * area * barycentric_k. A centre exactly on edge k is covered when bit k of
  * `flags` is set (a left or bottom edge, the rule llvmpipe applies). */
 #define CLR_TRIANGLE_FRONT_FACING (1u << 3)
-/* flags >> CLR_TRIANGLE_DRAW_SHIFT: the triangle's draw in its pass (DrawUniforms::batch_draw), whose
- * uniform block its fragments read. */
+/* (flags >> CLR_TRIANGLE_DRAW_SHIFT) & CLR_TRIANGLE_DRAW_MASK: the triangle's draw in its pass
+ * (DrawUniforms::batch_draw, below CLR_MAX_PASS_DRAWS), whose uniform block its fragments read;
+ * flags >> CLR_TRIANGLE_VIEW_SHIFT: its view (below CLR_MAX_LAYERS). */
 #define CLR_TRIANGLE_DRAW_SHIFT 8
+#define CLR_TRIANGLE_DRAW_MASK 0xfffu
+#define CLR_TRIANGLE_VIEW_SHIFT 20
 
 /* Bin pair triangle ids with this bit set index the overflow records of clipped primitives; the
  * others index the chunk's per-primitive records (see setup.cl). */
