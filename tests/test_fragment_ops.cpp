@@ -146,7 +146,7 @@ class FragmentOpsTest : public ::testing::Test {
   template <typename... Args>
   void run(const char* name, std::size_t items, const Args&... args) {
     cl::Kernel kernel(program_, name);
-    cl_host::set_args(kernel, args...);
+    runtime::set_args(kernel, args...);
     state().queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(items), cl::NullRange);
     state().queue.get().finish();
   }

@@ -19,14 +19,14 @@ std::size_t occurrences(const std::string& text, const std::string& part) {
 }
 
 TEST(KernelSources, EveryIncludeNamesAnEmbeddedSource) {
-  for (const cl_sources::SourceFile& file : cl_sources::all()) {
+  for (const runtime::sources::SourceFile& file : runtime::sources::all()) {
     SCOPED_TRACE(file.name);
-    EXPECT_NO_THROW(cl_sources::Composer().include(file.name));
+    EXPECT_NO_THROW(runtime::sources::Composer().include(file.name));
   }
 }
 
 TEST(KernelSources, AProgramTakesEachSourceOnce) {
-  cl_sources::Composer program;
+  runtime::sources::Composer program;
   // texture.cl includes format.cl and the shared headers, and format.cl the shared types again.
   const std::string texture = program.include("resources/texture.cl");
   for (const char* file : {"resources/texture.cl", "resources/format.cl", "shared/types.h", "shared/clr_limits.h"}) {
@@ -39,8 +39,8 @@ TEST(KernelSources, AProgramTakesEachSourceOnce) {
 // Each line of a composed source is where its #line directive says: that line of that file, or empty
 // where the file includes one that the program has already.
 TEST(KernelSources, LinesKeepTheirFilesAndNumbers) {
-  for (const cl_sources::SourceFile& file : cl_sources::all()) {
-    std::istringstream program(cl_sources::Composer().include(file.name));
+  for (const runtime::sources::SourceFile& file : runtime::sources::all()) {
+    std::istringstream program(runtime::sources::Composer().include(file.name));
     std::string name;
     std::vector<std::string> lines;  // of the file `name`
     std::size_t number = 0;
@@ -48,7 +48,7 @@ TEST(KernelSources, LinesKeepTheirFilesAndNumbers) {
       char quoted[256];
       if (std::sscanf(line.c_str(), "#line %zu \"%255[^\"]\"", &number, quoted) == 2) {
         name = quoted;
-        std::istringstream text(cl_sources::text(name));
+        std::istringstream text(runtime::sources::text(name));
         lines.clear();
         for (std::string l; std::getline(text, l);) lines.push_back(l);
         continue;

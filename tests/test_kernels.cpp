@@ -97,7 +97,7 @@ class KernelTest : public ::testing::Test {
   template <typename... Args>
   void run_single(const char* name, const Args&... args) {
     cl::Kernel kernel(program_, name);
-    cl_host::set_args(kernel, args...);
+    runtime::set_args(kernel, args...);
     state().queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
     state().queue.get().finish();
   }
@@ -152,11 +152,11 @@ TEST_F(KernelTest, BlockIndexRangesAreTheTwoHalvesOfTheirBlocksIndices) {
     for (int index_size : {2, 4}) {
       const std::uint32_t elements = static_cast<std::uint32_t>(indices.size()) - first;
       const std::uint32_t primitives = topology == CLR_TOPOLOGY_LIST ? elements / 3 : elements - 2;
-      const std::size_t blocks = cl_host::divide_round_up(primitives, CLR_CULL_BLOCK_PRIMITIVES);
+      const std::size_t blocks = runtime::divide_round_up(primitives, CLR_CULL_BLOCK_PRIMITIVES);
       cl::Buffer index_buffer = index_size == 4 ? buffer(indices)
                                                 : buffer(std::vector<cl_ushort>(indices.begin(), indices.end()));
       cl::Buffer ranges = buffer(std::vector<cl_uint4>(blocks));
-      cl_host::set_args(kernel, index_buffer, cl_int{index_size}, first, primitives, cl_int{topology}, ranges);
+      runtime::set_args(kernel, index_buffer, cl_int{index_size}, first, primitives, cl_int{topology}, ranges);
       state().queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(blocks), cl::NullRange);
       const std::vector<cl_uint4> result = read<cl_uint4>(ranges, blocks);
       for (std::uint32_t b = 0; b < blocks; ++b) {
@@ -294,7 +294,7 @@ TEST_F(KernelTest, WindowCoordinatesSnapToOneTwoHundredFiftySixthOfAPixelAroundP
   DrawState state;
   pipeline::RenderTarget target;
   target.width = target.height = target.layer_width = target.layer_height = 256;
-  const std::string builtin = cl_sources::text("program/builtin/normal.cl");
+  const std::string builtin = runtime::sources::text("program/builtin/normal.cl");
   DrawUniforms u = pipeline::make_uniforms(state, target, program::parse_program(builtin, "normal.cl"), 0);  // NDC x -> (x + 1) * 128
   cl::Buffer uniforms = buffer(std::vector<DrawUniforms>{u});
   // Window x = 10.5 (a pixel centre) -> fixed 10 * 256; x = 10.5 + 1/256 -> 2561; x = 0 -> -128;

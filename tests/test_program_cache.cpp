@@ -41,7 +41,7 @@ TEST(ProgramCache, RemovesTheEntriesUsedLongestAgoBeyondItsLimit) {
   fs::remove_all(directory);
   // Each cache object is a new run: its programs come from the directory or are built and stored.
   const auto run = [&](std::uintmax_t limit, std::initializer_list<int> kernels) {
-    cl_host::ProgramCache cache(state.context, state.device, directory.string(), limit);
+    runtime::ProgramCache cache(state.context, state.device, directory.string(), limit);
     for (const int n : kernels) cache.get("number.cl", numbered_kernel(n), "");
   };
   run(std::uintmax_t{1} << 30, {0});

@@ -99,7 +99,7 @@ std::string error_of(Action&& action) {
 class TextureTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    program_ = build_test_program("texture unit tests", cl_sources::core_program() + kTestKernels);
+    program_ = build_test_program("texture unit tests", runtime::sources::core_program() + kTestKernels);
   }
 
   static ContextState& state() { return *shared_context().impl().state; }
@@ -121,7 +121,7 @@ class TextureTest : public ::testing::Test {
   template <typename... Args>
   void run(const char* name, std::size_t count, const Args&... args) {
     cl::Kernel kernel(program_, name);
-    cl_host::set_args(kernel, args...);
+    runtime::set_args(kernel, args...);
     state().queue.get().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(count));
     state().queue.get().finish();
   }

@@ -14,7 +14,7 @@ const char* version() { return CLRASTER_VERSION; }
 
 std::vector<DeviceInfo> list_devices() {
   std::vector<DeviceInfo> result;
-  for (const cl_host::Device& device : cl_host::enumerate_devices()) result.push_back(device.info);
+  for (const runtime::Device& device : runtime::enumerate_devices()) result.push_back(device.info);
   return result;
 }
 
@@ -44,7 +44,7 @@ std::size_t power_of_two_at_most(std::size_t limit) { return std::bit_floor(std:
 
 }  // namespace
 
-ContextState::ContextState(const ContextOptions& options_in, cl_host::Device device_in)
+ContextState::ContextState(const ContextOptions& options_in, runtime::Device device_in)
     : options(options_in),
       device(std::move(device_in)),
       context(device.device),
@@ -85,7 +85,7 @@ std::size_t ContextState::vertex_lanes() const { return cpu_shapes() ? CLR_CPU_V
 
 std::string ContextState::core_build_options() const {
   // Work-group shapes are the device's (clr_limits.h): kernels take them as constants, the host
-  // reads them back from each kernel (cl_host::compiled_group_size). No warnings: PoCL's compiler
+  // reads them back from each kernel (runtime::compiled_group_size). No warnings: PoCL's compiler
   // prints them on the process's stderr ("7 warnings generated.", of its own ABI for 512-bit vectors
   // on machines without AVX-512), where nobody can act on them; errors still come in the build log.
   return "-cl-std=CL1.2 -w -DCLR_SCAN_GROUP_SIZE=" + std::to_string(scan_items());
@@ -100,8 +100,8 @@ std::string ContextState::stage_build_options(int tile_size) const {
 
 const cl::Program& ContextState::core_program() {
   if (!core_) {
-    core_ = programs.get("core", cl_sources::core_program(), core_build_options());
-    if (const std::optional<cl_host::KernelExcess> excess = cl_host::kernel_beyond_limits(*core_, device)) {
+    core_ = programs.get("core", runtime::sources::core_program(), core_build_options());
+    if (const std::optional<runtime::KernelExcess> excess = runtime::kernel_beyond_limits(*core_, device)) {
       throw InvalidArgument("the pipeline's " + excess->description);
     }
   }
@@ -123,7 +123,7 @@ const Program& ContextState::builtin_program(Shading shading) {
   std::unique_ptr<Program>& builtin = builtins.at(static_cast<std::size_t>(shading));
   if (!builtin) {
     const char* const source = kSources[static_cast<std::size_t>(shading)];
-    std::unique_ptr<Program::Impl> impl = compile_program(shared_from_this(), cl_sources::text(source), source);
+    std::unique_ptr<Program::Impl> impl = compile_program(shared_from_this(), runtime::sources::text(source), source);
     // This state owns its built-in program, so the program must not own this state back (the two
     // would keep each other alive, and every context that drew with it leaked): it keeps a pointer
     // that owns nothing, which is all draws compare it with.
@@ -135,7 +135,7 @@ const Program& ContextState::builtin_program(Shading shading) {
 
 Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()) {
   check_options(options);
-  impl_->state = std::make_shared<ContextState>(options, cl_host::select_device(options.device));
+  impl_->state = std::make_shared<ContextState>(options, runtime::select_device(options.device));
 }
 Context::~Context() = default;
 Context::Context(Context&&) noexcept = default;

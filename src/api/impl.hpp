@@ -25,15 +25,15 @@ struct ContextState : std::enable_shared_from_this<ContextState> {
   // Whether the context chose options.tile_size (kDeviceTileSize): then a program whose stages do not
   // fit the device at that size takes a smaller one (compile_program).
   bool tile_size_chosen = false;
-  cl_host::Device device;
+  runtime::Device device;
   cl::Context context;
-  cl_host::Queue queue;
-  cl_host::ProgramCache programs;
+  runtime::Queue queue;
+  runtime::ProgramCache programs;
   std::unique_ptr<pipeline::Pipeline> pipeline;  // built by the first draw
   // The built-in program of each Shading, compiled by its first use.
   std::array<std::unique_ptr<Program>, kShadingCount> builtins;
 
-  ContextState(const ContextOptions& options, cl_host::Device device);
+  ContextState(const ContextOptions& options, runtime::Device device);
   // The context-wide kernels: scans, sorts, index validation, textures.
   const cl::Program& core_program();
   pipeline::Pipeline& get_pipeline();

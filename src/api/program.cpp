@@ -110,8 +110,8 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
       throw BuildError("program " + file_name + " failed to compile:\n" + compile_errors(error.log(), file_name),
                        error.log());
     }
-    const std::optional<cl_host::KernelExcess> excess =
-        translate_cl_errors([&] { return cl_host::kernel_beyond_limits(impl->program, state->device); });
+    const std::optional<runtime::KernelExcess> excess =
+        translate_cl_errors([&] { return runtime::kernel_beyond_limits(impl->program, state->device); });
     if (!excess) return impl;
     if (!excess->tile_bound) {
       throw InvalidArgument("program " + file_name + " cannot run: its " + excess->description +

@@ -91,10 +91,10 @@ template <typename Value>
 void clear_texels(ContextState& state, const Texture::Impl& texture, Format format, const char* kind, Value value) {
   cl::Kernel kernel(state.core_program(), (std::string("clear_texels_") + kind).c_str());
   const auto count = static_cast<cl_uint>(std::size_t(texture.width) * std::size_t(texture.height));
-  cl_host::set_args(kernel, cl_int{static_cast<int>(format)}, texture.data, count, value);
-  state.queue.set_stage(cl_host::Stage::Other);
-  const std::size_t items = cl_host::divide_round_up(count, CLR_CLEAR_TEXELS_PER_ITEM);  // clear.cl
-  cl_host::enqueue_items(state.queue, kernel, items, CLR_ITEM_GROUP_SIZE);
+  runtime::set_args(kernel, cl_int{static_cast<int>(format)}, texture.data, count, value);
+  state.queue.set_stage(runtime::Stage::Other);
+  const std::size_t items = runtime::divide_round_up(count, CLR_CLEAR_TEXELS_PER_ITEM);  // clear.cl
+  runtime::enqueue_items(state.queue, kernel, items, CLR_ITEM_GROUP_SIZE);
 }
 
 void check_level(const Texture::Impl& texture, int level) {
@@ -300,10 +300,10 @@ void Texture::generate_mipmaps() {
     cl::Kernel kernel(state.core_program(), "texture_downsample");
     // Level by level: each reads the one before, and the queue runs commands in order.
     for (int level = 1; level < impl_->levels; ++level) {
-      cl_host::set_args(kernel, impl_->data, desc_buffer, cl_int{level - 1});
+      runtime::set_args(kernel, impl_->data, desc_buffer, cl_int{level - 1});
       const std::size_t texels = static_cast<std::size_t>(width(level)) * static_cast<std::size_t>(height(level));
       state.queue.get().enqueueNDRangeKernel(kernel, cl::NullRange,
-                                             cl::NDRange(cl_host::round_up(texels, CLR_ITEM_GROUP_SIZE)),
+                                             cl::NDRange(runtime::round_up(texels, CLR_ITEM_GROUP_SIZE)),
                                              cl::NDRange(CLR_ITEM_GROUP_SIZE));
     }
   });

@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-namespace clraster::stages {
+namespace clraster::geometry {
 
 struct BinParams {
   cl::Buffer bin_boxes;            // the pixel boxes of the chunk's per-primitive SetupTriangles
@@ -34,7 +34,7 @@ class BinStage {
       : sort_(sort), emit_(program, "bin_emit"), ranges_(program, "tile_ranges") {}
 
   // Returns the index (0 or 1) of the triangle_ids buffer that holds the sorted ids.
-  int run(cl_host::Queue& queue, const BinParams& params);
+  int run(runtime::Queue& queue, const BinParams& params);
 
  private:
   parallel::RadixSort& sort_;
@@ -42,4 +42,4 @@ class BinStage {
   cl::Kernel ranges_;
 };
 
-}  // namespace clraster::stages
+}  // namespace clraster::geometry

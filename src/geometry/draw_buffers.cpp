@@ -1,6 +1,6 @@
 #include "geometry/draw_buffers.hpp"
 
-namespace clraster::stages {
+namespace clraster::geometry {
 
 cl_uint set_resource_args(cl::Kernel& kernel, cl_uint first, const ProgramResources& resources) {
   kernel.setArg(first++, resources.uniform_block);
@@ -10,4 +10,4 @@ cl_uint set_resource_args(cl::Kernel& kernel, cl_uint first, const ProgramResour
   return first;
 }
 
-}  // namespace clraster::stages
+}  // namespace clraster::geometry

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace clraster::stages {
+namespace clraster::geometry {
 
 // In kernel parameter order: uniform block, texture descriptions, texture data..., user buffers...
 struct ProgramResources {
@@ -31,4 +31,4 @@ struct DrawBuffers {
 // Sets the resource parameters of `kernel` from argument index `first`; returns the next index.
 cl_uint set_resource_args(cl::Kernel& kernel, cl_uint first, const ProgramResources& resources);
 
-}  // namespace clraster::stages
+}  // namespace clraster::geometry

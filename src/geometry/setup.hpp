@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-namespace clraster::stages {
+namespace clraster::geometry {
 
 struct SetupParams {
   const DrawBuffers* draw = nullptr;
@@ -59,9 +59,9 @@ class SetupStage {
  public:
   explicit SetupStage(const cl::Program& program)
       : setup_(program, "triangle_setup"), clipped_(program, "clipped_setup"), cull_(program, "cull_blocks") {}
-  void run(cl_host::Queue& queue, const SetupParams& params);
-  void run_clipped(cl_host::Queue& queue, const ClippedSetupParams& params);
-  void run_cull(cl_host::Queue& queue, const CullParams& params);
+  void run(runtime::Queue& queue, const SetupParams& params);
+  void run_clipped(runtime::Queue& queue, const ClippedSetupParams& params);
+  void run_cull(runtime::Queue& queue, const CullParams& params);
 
  private:
   cl::Kernel setup_;
@@ -69,4 +69,4 @@ class SetupStage {
   cl::Kernel cull_;
 };
 
-}  // namespace clraster::stages
+}  // namespace clraster::geometry

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace clraster::stages {
+namespace clraster::geometry {
 
 struct VertexParams {
   const DrawBuffers* draw = nullptr;
@@ -26,7 +26,7 @@ class VertexStage {
  public:
   // `lanes`: the slots each work-item shades, the CLR_VERTEX_LANES the program was built with.
   VertexStage(const cl::Program& program, std::size_t lanes) : kernel_(program, "vertex_shade"), lanes_(lanes) {}
-  void run(cl_host::Queue& queue, const VertexParams& params);
+  void run(runtime::Queue& queue, const VertexParams& params);
   // Whether work-items share groups of slots and AND their codes into them (vertex.cl), so that
   // group_codes must hold all ones before the stage runs. Otherwise (CPU shapes) each work-item
   // stores its own group's codes whole.
@@ -37,4 +37,4 @@ class VertexStage {
   std::size_t lanes_;
 };
 
-}  // namespace clraster::stages
+}  // namespace clraster::geometry

@@ -7,13 +7,13 @@
 
 namespace clraster::parallel {
 
-using cl_host::divide_round_up;
+using runtime::divide_round_up;
 
 RadixSort::RadixSort(const cl::Program& program, Scan& scan)
     : scan_(scan),
       histogram_(program, "radix_histogram"),
       scatter_(program, "radix_scatter"),
-      group_size_(cl_host::compiled_group_size(histogram_)),
+      group_size_(runtime::compiled_group_size(histogram_)),
       digit_bits_(CLR_RADIX_BITS_FOR(group_size_)),
       block_(CLR_RADIX_BLOCK_FOR(group_size_)) {}
 
@@ -29,7 +29,7 @@ std::size_t RadixSort::scan_scratch_bytes(std::size_t count) {
   return Scan::scratch_bytes(histogram_bytes(count) / sizeof(cl_uint));
 }
 
-int RadixSort::sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2],
+int RadixSort::sort(runtime::Queue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2],
                     std::size_t count, int key_bits, const cl::Buffer& histogram, const cl::Buffer& block_sums,
                     const cl::Buffer& counters) {
   const auto n = static_cast<cl_uint>(count);
@@ -37,12 +37,12 @@ int RadixSort::sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl
   int source = 0;
   for (int shift = 0; shift < key_bits && count > 1; shift += digit_bits_) {
     const auto shift_arg = static_cast<cl_uint>(shift);
-    cl_host::set_args(histogram_, keys[source], n, shift_arg, histogram, blocks);
-    cl_host::enqueue_blocks(queue, histogram_, count, block_, group_size_);
+    runtime::set_args(histogram_, keys[source], n, shift_arg, histogram, blocks);
+    runtime::enqueue_blocks(queue, histogram_, count, block_, group_size_);
     scan_.exclusive(queue, histogram, std::size_t{blocks} << digit_bits_, block_sums, counters);
-    cl_host::set_args(scatter_, keys[source], values[source], n, shift_arg, histogram, blocks, keys[1 - source],
+    runtime::set_args(scatter_, keys[source], values[source], n, shift_arg, histogram, blocks, keys[1 - source],
                       values[1 - source]);
-    cl_host::enqueue_blocks(queue, scatter_, count, block_, group_size_);
+    runtime::enqueue_blocks(queue, scatter_, count, block_, group_size_);
     source = 1 - source;
   }
   return source;

@@ -16,7 +16,7 @@ class RadixSort {
 
   // Sorts keys[0][0 .. count) with values[0] alongside by the low `key_bits` bits of the keys,
   // ping-ponging between buffer 0 and 1. Returns the index (0 or 1) of the buffers holding the result.
-  int sort(cl_host::Queue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2], std::size_t count,
+  int sort(runtime::Queue& queue, const cl::Buffer (&keys)[2], const cl::Buffer (&values)[2], std::size_t count,
            int key_bits, const cl::Buffer& histogram, const cl::Buffer& block_sums, const cl::Buffer& counters);
 
  private:

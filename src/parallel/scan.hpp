@@ -18,7 +18,7 @@ class Scan {
 
   // Replaces data[0 .. count) by its exclusive prefix sums and writes the total to
   // counters[CLR_COUNTER_SCAN_TOTAL]. block_sums holds at least scratch_bytes(count).
-  void exclusive(cl_host::Queue& queue, const cl::Buffer& data, std::size_t count, const cl::Buffer& block_sums,
+  void exclusive(runtime::Queue& queue, const cl::Buffer& data, std::size_t count, const cl::Buffer& block_sums,
                  const cl::Buffer& counters);
 
  private:

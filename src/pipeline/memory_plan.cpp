@@ -12,13 +12,13 @@
 namespace clraster::pipeline {
 namespace {
 
-using resources::Scratch;
+using runtime::Scratch;
 
-std::size_t& at(resources::ScratchSizes& sizes, Scratch id) { return sizes[static_cast<std::size_t>(id)]; }
+std::size_t& at(runtime::ScratchSizes& sizes, Scratch id) { return sizes[static_cast<std::size_t>(id)]; }
 
-resources::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::uint64_t chunk, std::uint64_t overflow,
+runtime::ScratchSizes buffer_bytes(bool shade_all, const PlanInput& in, std::uint64_t chunk, std::uint64_t overflow,
                                      std::uint64_t pairs) {
-  resources::ScratchSizes b{};
+  runtime::ScratchSizes b{};
   const std::uint64_t slots = in.pass        ? pass_slots(chunk)
                               : shade_all    ? in.vertex_count
                                              : stream_range(in.topology, 0, static_cast<std::uint32_t>(chunk)).slot_count;
@@ -57,7 +57,7 @@ std::uint64_t largest_fitting(std::uint64_t lo, std::uint64_t hi, Fits fits) {
   return lo;
 }
 
-std::size_t total(const resources::ScratchSizes& sizes) {
+std::size_t total(const runtime::ScratchSizes& sizes) {
   return std::accumulate(sizes.begin(), sizes.end(), std::size_t{0});
 }
 
@@ -91,13 +91,13 @@ MemoryPlan plan_memory(const PlanInput& in) {
   };
   const auto bytes_for = [&](std::uint64_t chunk, std::uint64_t pairs) { return total(sizes_for(chunk, pairs)); };
   const auto fits = [&](std::uint64_t chunk, std::uint64_t pairs) {
-    const resources::ScratchSizes sizes = sizes_for(chunk, pairs);
+    const runtime::ScratchSizes sizes = sizes_for(chunk, pairs);
     return total(sizes) <= in.memory_cap && *std::max_element(sizes.begin(), sizes.end()) <= in.buffer_bytes;
   };
 
   const auto chunk_fits = [&](std::uint64_t chunk) { return fits(chunk, min_pairs_for(chunk)); };
   if (!chunk_fits(1)) {
-    const resources::ScratchSizes sizes = sizes_for(1, min_pairs_for(1));
+    const runtime::ScratchSizes sizes = sizes_for(1, min_pairs_for(1));
     const std::size_t largest = *std::max_element(sizes.begin(), sizes.end());
     if (largest > in.buffer_bytes) {
       throw InvalidArgument("one primitive's " + std::to_string(min_pairs_for(1)) + " bin entries need a buffer of " +

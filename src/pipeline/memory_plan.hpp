@@ -34,13 +34,13 @@ struct MemoryPlan {
   std::uint32_t chunk_primitives = 0;   // primitives per geometry chunk
   std::uint32_t overflow_capacity = 0;  // triangles of a chunk's clipped primitives (more shorten it)
   std::uint64_t pair_capacity = 0;     // bin pairs per raster batch
-  resources::ScratchSizes buffer_bytes{};
+  runtime::ScratchSizes buffer_bytes{};
 };
 
 // Block culling (clr_limits.h): the groups of vertex slots whose clip codes are ANDed, and the most
 // blocks of primitives a chunk of `primitives` overlaps, wherever it starts.
 inline std::uint64_t code_groups(std::uint64_t vertices) {
-  return cl_host::divide_round_up(vertices, CLR_CODE_GROUP_SLOTS);
+  return runtime::divide_round_up(vertices, CLR_CODE_GROUP_SLOTS);
 }
 inline std::uint32_t chunk_blocks(std::uint32_t primitives) { return primitives / CLR_CULL_BLOCK_PRIMITIVES + 2; }
 // The vertex slots of a pass of `primitives` primitives: a list's stream positions, in whole groups.

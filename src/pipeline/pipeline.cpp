@@ -15,8 +15,8 @@
 
 namespace clraster::pipeline {
 
-using cl_host::read_uint;
-using resources::Scratch;
+using runtime::read_uint;
+using runtime::Scratch;
 
 namespace {
 
@@ -99,7 +99,7 @@ bool same_bytes(const T& a, const T& b) {
 
 }  // namespace
 
-Pipeline::Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, std::size_t memory_cap,
+Pipeline::Pipeline(const cl::Context& context, runtime::Queue& queue, const cl::Program& core, std::size_t memory_cap,
                    std::size_t buffer_bytes, std::size_t constant_bytes)
     : context_(context),
       queue_(queue),
@@ -128,10 +128,10 @@ IndexRangeCache::Bounds Pipeline::index_bounds(const DrawSource& source, std::ui
                                   &start[0], nullptr, queue_.event());
   queue_.get().enqueueWriteBuffer(counters_, CL_TRUE, CLR_COUNTER_MAX_INDEX * sizeof(cl_uint), sizeof(cl_uint),
                                   &start[1], nullptr, queue_.event());
-  cl_host::set_args(index_bounds_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
-  cl_host::enqueue_blocks(queue_, index_bounds_, count, CLR_SCAN_BLOCK, cl_host::compiled_group_size(index_bounds_));
+  runtime::set_args(index_bounds_, source.indices, cl_int{source.index_size}, cl_uint{first}, cl_uint{count}, counters_);
+  runtime::enqueue_blocks(queue_, index_bounds_, count, CLR_SCAN_BLOCK, runtime::compiled_group_size(index_bounds_));
   std::array<std::uint32_t, CLR_COUNTER_COUNT> counters{};
-  cl_host::read_uints(queue_, counters_, 0, counters);
+  runtime::read_uints(queue_, counters_, 0, counters);
   if (cache.bounds.size() >= CLR_INDEX_RANGE_CACHE_ENTRIES) cache.bounds.clear();
   const IndexRangeCache::Bounds bounds{counters[CLR_COUNTER_MIN_INDEX], counters[CLR_COUNTER_MAX_INDEX]};
   cache.bounds[{first, count}] = bounds;
@@ -145,12 +145,12 @@ const cl::Buffer& Pipeline::block_index_ranges(const FrameDraw& draw) {
   const auto found = cache.block_ranges.find(key);
   if (found != cache.block_ranges.end()) return found->second;
   if (cache.block_ranges.size() >= CLR_INDEX_RANGE_CACHE_ENTRIES) cache.block_ranges.clear();
-  const std::size_t blocks = cl_host::divide_round_up(draw.primitives, CLR_CULL_BLOCK_PRIMITIVES);
+  const std::size_t blocks = runtime::divide_round_up(draw.primitives, CLR_CULL_BLOCK_PRIMITIVES);
   cl::Buffer& ranges = cache.block_ranges[key];
   ranges = cl::Buffer(context_, CL_MEM_READ_WRITE, blocks * sizeof(cl_uint4));
-  cl_host::set_args(block_index_ranges_, source.indices, cl_int{source.index_size}, cl_uint{draw.first},
+  runtime::set_args(block_index_ranges_, source.indices, cl_int{source.index_size}, cl_uint{draw.first},
                     cl_uint{draw.primitives}, cl_int{draw.topology}, ranges);
-  cl_host::enqueue_items(queue_, block_index_ranges_, blocks, CLR_ITEM_GROUP_SIZE);
+  runtime::enqueue_items(queue_, block_index_ranges_, blocks, CLR_ITEM_GROUP_SIZE);
   return ranges;
 }
 
@@ -173,7 +173,7 @@ std::uint32_t Pipeline::last_offset_within(const cl::Buffer& offsets, std::uint3
 
 FrameDraw Pipeline::prepare(const RenderTarget& target, const DrawSource& source, std::uint32_t first,
                             std::uint32_t count, const DrawState& state, std::uint32_t view) {
-  queue_.set_stage(cl_host::Stage::Other);
+  queue_.set_stage(runtime::Stage::Other);
   const program::ParsedProgram& program = *source.program;
   const bool indexed = source.index_size != 0;
   const char* elements = indexed ? "indices" : "vertices";
@@ -237,7 +237,7 @@ DrawStats Pipeline::render(const RenderTarget& target, const std::vector<FrameDr
     remaining[i] = remaining[i + 1] + primitives;
     stats.triangles += primitives;
   }
-  cl_host::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
+  runtime::fill(queue_, counters_, cl_uint{0}, 0, CLR_COUNTER_COUNT * sizeof(cl_uint));
 
   std::optional<Pass> pass;
   for (std::size_t i = 0; i < draws.size(); ++i) {
@@ -270,7 +270,7 @@ DrawStats Pipeline::render(const RenderTarget& target, const std::vector<FrameDr
 void Pipeline::take_dropped(std::uint32_t counted) {
   if (counted == 0) return;
   dropped_ += counted;
-  cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
+  runtime::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
 }
 
 Pipeline::RasterInputs Pipeline::raster_inputs(const RenderTarget& target, const DrawSource& source) {
@@ -278,8 +278,8 @@ Pipeline::RasterInputs Pipeline::raster_inputs(const RenderTarget& target, const
   raster.target = &target;
   raster.stages = source.stages;
   raster.outputs = source.program->interface.outputs.size();
-  raster.tiles_x = static_cast<std::uint32_t>(cl_host::divide_round_up(target.width, source.stages->tile_size));
-  raster.tiles_y = static_cast<std::uint32_t>(cl_host::divide_round_up(target.height, source.stages->tile_size));
+  raster.tiles_x = static_cast<std::uint32_t>(runtime::divide_round_up(target.width, source.stages->tile_size));
+  raster.tiles_y = static_cast<std::uint32_t>(runtime::divide_round_up(target.height, source.stages->tile_size));
   return raster;
 }
 
@@ -381,7 +381,7 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
   DrawUniforms raster_uniforms = draw_table[0];
   for (const DrawUniforms& u : draw_table) unite_clip_rects(raster_uniforms, u);
   const cl::Buffer attribute_descs = table(attribute_table.data(), attribute_table.size() * sizeof(AttributeDesc));
-  stages::ProgramResources resources;
+  geometry::ProgramResources resources;
   resources.uniform_block = table(uniform_table.data(), uniform_table.size());
   resources.texture_descs =
       table(lead_source.texture_descs.data(), lead_source.texture_descs.size() * sizeof(TextureDesc));
@@ -402,11 +402,11 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
   const cl::Buffer clipped_offsets = scratch_.get(Scratch::ClippedCounts, count_bytes);
 
   // Each entry through the vertex stage and set-up, into its own slots and records.
-  std::vector<stages::DrawBuffers> buffers(entries);
+  std::vector<geometry::DrawBuffers> buffers(entries);
   for (std::size_t k = 0; k < entries; ++k) {
     const PassEntry& entry = pass.entries[k];
     const FrameDraw& draw = *entry.draw;
-    stages::DrawBuffers& b = buffers[k];
+    geometry::DrawBuffers& b = buffers[k];
     b.indices = draw.indexed() ? draw.source->indices : placeholder_;
     b.uniforms = draws;
     b.draw = static_cast<std::uint32_t>(k);
@@ -416,8 +416,8 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
     b.attributes = draw.source->attribute_buffers;
     const bool shade_all = entry.slots.shade_all != 0;
     if (shade_all && stages.vertex.ands_group_codes()) {
-      queue_.set_stage(cl_host::Stage::Vertex);
-      cl_host::fill(queue_, group_codes, ~cl_uint{0}, entry.slots.slot_base / CLR_CODE_GROUP_SLOTS * sizeof(cl_uint),
+      queue_.set_stage(runtime::Stage::Vertex);
+      runtime::fill(queue_, group_codes, ~cl_uint{0}, entry.slots.slot_base / CLR_CODE_GROUP_SLOTS * sizeof(cl_uint),
                     std::size_t{entry.instances} * entry.instance_slots / CLR_CODE_GROUP_SLOTS * sizeof(cl_uint));
     }
     stages.vertex.run(queue_, {.draw = &b, .slots = entry.slots, .main_count = entry.main_count,
@@ -425,7 +425,7 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
                                .instance_slots = entry.instance_slots, .shaded = shaded, .group_codes = group_codes});
     cl::Buffer culled_blocks = placeholder_;
     if (shade_all) {
-      const auto block_count = static_cast<std::uint32_t>(cl_host::divide_round_up(draw.primitives, CLR_CULL_BLOCK_PRIMITIVES));
+      const auto block_count = static_cast<std::uint32_t>(runtime::divide_round_up(draw.primitives, CLR_CULL_BLOCK_PRIMITIVES));
       culled_blocks = scratch_.get(Scratch::CulledBlocks, std::size_t{block_count} * entry.instances);
       stages.setup.run_cull(queue_, {.first_block = 0, .block_count = block_count,
                                      .index_ranges = block_index_ranges(draw),
@@ -444,11 +444,11 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
   const cl::Buffer block_sums = scratch_.get(Scratch::ScanBlockSums, parallel::Scan::scratch_bytes(count + 1));
   scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
   std::array<std::uint32_t, CLR_COUNTER_COUNT> counters{};
-  cl_host::read_uints(queue_, counters_, 0, counters);
+  runtime::read_uints(queue_, counters_, 0, counters);
   const std::uint32_t pairs = counters[CLR_COUNTER_SCAN_TOTAL];
   std::uint32_t clipped = 0;
   if (counters[CLR_COUNTER_CLIPPED] != 0) {
-    cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_CLIPPED * sizeof(cl_uint), sizeof(cl_uint));
+    runtime::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_CLIPPED * sizeof(cl_uint), sizeof(cl_uint));
     scan_.exclusive(queue_, clipped_offsets, count + 1, block_sums, counters_);
     clipped = read_uint(queue_, counters_, CLR_COUNTER_SCAN_TOTAL);
   }
@@ -456,7 +456,7 @@ void Pipeline::render_pass(const RenderTarget& target, const Pass& pass, DrawSta
     // More clipping than the plan holds, or more bin pairs than 32-bit offsets count (rare): the
     // pass's geometry is dropped, and its entries rendered alone, chunk by chunk, which split where
     // they must.
-    cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
+    runtime::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_DROPPED * sizeof(cl_uint), sizeof(cl_uint));
     for (const PassEntry& entry : pass.entries) {
       draw_chunked(target, *entry.draw, entry.instance, entry.instance + entry.instances, stats);
     }
@@ -501,13 +501,13 @@ void Pipeline::draw_chunked(const RenderTarget& target, const FrameDraw& draw, s
   scratch_.set_capacities(chunked.plan.buffer_bytes);
 
   DrawUniforms uniforms = draw.uniforms;
-  stages::ProgramResources resources;
+  geometry::ProgramResources resources;
   resources.uniform_block = table(source.uniforms.data(), source.uniforms.size());
   resources.texture_descs = table(source.texture_descs.data(), source.texture_descs.size() * sizeof(TextureDesc));
   resources.textures = source.textures;
   resources.buffers = source.buffers;
   raster.resources = &resources;
-  stages::DrawBuffers buffers;
+  geometry::DrawBuffers buffers;
   buffers.indices = draw.indexed() ? source.indices : placeholder_;
   buffers.counters = counters_;
   buffers.resources = &resources;
@@ -528,8 +528,8 @@ void Pipeline::draw_chunked(const RenderTarget& target, const FrameDraw& draw, s
     buffers.uniforms = raster.draws = table(&uniforms, sizeof uniforms);
     if (chunked.plan.shade_all_vertices) {
       if (source.stages->vertex.ands_group_codes()) {
-        queue_.set_stage(cl_host::Stage::Vertex);
-        cl_host::fill(queue_, chunked.group_codes, ~cl_uint{0}, 0, code_groups(draw.vertex_count) * sizeof(cl_uint));
+        queue_.set_stage(runtime::Stage::Vertex);
+        runtime::fill(queue_, chunked.group_codes, ~cl_uint{0}, 0, code_groups(draw.vertex_count) * sizeof(cl_uint));
       }
       source.stages->vertex.run(
           queue_, {.draw = &buffers, .slots = SlotMap{1, 0, 0, 0}, .slot_count = static_cast<std::uint32_t>(draw.vertex_count),
@@ -541,7 +541,7 @@ void Pipeline::draw_chunked(const RenderTarget& target, const FrameDraw& draw, s
     }
   }
   take_dropped(read_uint(queue_, counters_, CLR_COUNTER_DROPPED));
-  cl_host::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_CLIPPED * sizeof(cl_uint), sizeof(cl_uint));
+  runtime::fill(queue_, counters_, cl_uint{0}, CLR_COUNTER_CLIPPED * sizeof(cl_uint), sizeof(cl_uint));
 }
 
 std::uint32_t Pipeline::run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std::uint32_t count, DrawStats& stats) {
@@ -586,7 +586,7 @@ std::uint32_t Pipeline::run_chunk(ChunkedDraw& chunked, std::uint32_t begin, std
   // Where each primitive's bin pairs go, and, in the same read, whether any primitive was clipped.
   scan_.exclusive(queue_, pair_offsets, count + 1, block_sums, counters_);
   std::array<std::uint32_t, CLR_COUNTER_COUNT> counters{};
-  cl_host::read_uints(queue_, counters_, 0, counters);
+  runtime::read_uints(queue_, counters_, 0, counters);
   std::uint32_t pairs = counters[CLR_COUNTER_SCAN_TOTAL];
 
   // Clipped primitives (rare, so only scanned when the draw's count of them moved): where their
@@ -639,7 +639,7 @@ void Pipeline::bin_and_rasterize(RasterInputs& inputs, const ChunkTriangles& chu
     const std::uint32_t batch_pairs = read_offset(chunk.pair_offsets, batch_end, primitives, pairs) - pair_base;
     const std::size_t pair_bytes = std::size_t{batch_pairs} * sizeof(cl_uint);
 
-    stages::BinParams bin;
+    geometry::BinParams bin;
     bin.bin_boxes = chunk.bin_boxes;
     bin.overflow = chunk.overflow;
     bin.clipped_offsets = chunk.clipped_offsets;
@@ -662,7 +662,7 @@ void Pipeline::bin_and_rasterize(RasterInputs& inputs, const ChunkTriangles& chu
     const int sorted = stages.bin.run(queue_, bin);
 
     const RenderTarget& target = *inputs.target;
-    stages::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, inputs.tiles_x,
+    raster::RasterParams raster{chunk.records, chunk.overflow, bin.triangle_ids[sorted], bin.tile_ranges, inputs.tiles_x,
                                 inputs.tiles_y, static_cast<std::uint32_t>(target.width), inputs.draws,
                                 target.depth_stencil() != nullptr ? target.depth_stencil : placeholder_, target.stencil_offset,
                                 inputs.clears, {}, inputs.resources};

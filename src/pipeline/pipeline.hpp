@@ -36,10 +36,10 @@ struct ProgramStages {
   ProgramStages(const cl::Program& program, parallel::RadixSort& sort, std::size_t vertex_lanes, int tile_size)
       : tile_size(tile_size), vertex(program, vertex_lanes), setup(program), bin(program, sort), raster(program) {}
   int tile_size;  // the program's stages were compiled for tiles of tile_size x tile_size pixels
-  stages::VertexStage vertex;
-  stages::SetupStage setup;
-  stages::BinStage bin;
-  stages::RasterStage raster;
+  geometry::VertexStage vertex;
+  geometry::SetupStage setup;
+  geometry::BinStage bin;
+  raster::RasterStage raster;
 };
 
 // Where a draw renders to: level 0 of the framebuffer's attachments.
@@ -113,7 +113,7 @@ class Pipeline {
  public:
   // buffer_bytes: the most one buffer may take (the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE);
   // constant_bytes: the device's CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE, which bounds a pass's tables.
-  Pipeline(const cl::Context& context, cl_host::Queue& queue, const cl::Program& core, std::size_t memory_cap,
+  Pipeline(const cl::Context& context, runtime::Queue& queue, const cl::Program& core, std::size_t memory_cap,
            std::size_t buffer_bytes, std::size_t constant_bytes);
 
   // Checks a draw (element ranges, indices, instances) without rendering anything. `source` must
@@ -151,7 +151,7 @@ class Pipeline {
     ProgramStages* stages = nullptr;
     std::size_t outputs = 0;  // the program's
     cl::Buffer draws;         // DrawUniforms table (entry 0's raster state)
-    const stages::ProgramResources* resources = nullptr;
+    const geometry::ProgramResources* resources = nullptr;
     std::uint32_t tiles_x = 0, tiles_y = 0;
     std::uint64_t pair_capacity = 0;
     std::uint32_t clears = 0;  // pending clears the next raster pass writes (CLR_CLEAR_*)
@@ -169,7 +169,7 @@ class Pipeline {
   // What every step of a draw rendered alone, chunk by chunk, needs.
   struct ChunkedDraw {
     const FrameDraw* draw = nullptr;
-    const stages::DrawBuffers* buffers = nullptr;
+    const geometry::DrawBuffers* buffers = nullptr;
     MemoryPlan plan;
     RasterInputs raster;
     std::size_t shaded_vertex_bytes = 0;
@@ -217,14 +217,14 @@ class Pipeline {
   cl::Buffer table(const void* data, std::size_t bytes) const;
 
   const cl::Context& context_;
-  cl_host::Queue& queue_;
+  runtime::Queue& queue_;
   std::size_t memory_cap_;
   std::size_t buffer_bytes_;
   std::size_t constant_bytes_;
   cl::Buffer placeholder_;  // bound to kernel arguments a draw does not use
   cl::Buffer counters_;
   std::uint64_t dropped_ = 0;  // of the frame being rendered
-  resources::ScratchArena scratch_;
+  runtime::ScratchArena scratch_;
   cl::Kernel index_bounds_;
   cl::Kernel block_index_ranges_;
   parallel::Scan scan_;

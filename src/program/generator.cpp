@@ -346,7 +346,7 @@ std::size_t setup_triangle_bytes(const ParsedProgram& p) {
 
 std::string generate_stage_program(const ParsedProgram& p, const std::string& user_source, const std::string& file_name) {
   std::ostringstream out;
-  cl_sources::Composer sources;
+  runtime::sources::Composer sources;
   emit_constants(out, p);
   // What the generated interface names: span types and textures.
   out << sources.include("raster/span.cl") << sources.include("resources/texture.cl");

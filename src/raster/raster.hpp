@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-namespace clraster::stages {
+namespace clraster::raster {
 
 struct RasterParams {
   cl::Buffer records;        // SetupTriangles: per primitive ...
@@ -24,17 +24,17 @@ struct RasterParams {
   // them instead of the attachments and is written back whole, with or without triangles.
   std::uint32_t clears = 0;
   std::vector<cl::Buffer> colors;  // one per program output (placeholders where no attachment is)
-  const ProgramResources* resources = nullptr;
+  const geometry::ProgramResources* resources = nullptr;
 };
 
 class RasterStage {
  public:
   explicit RasterStage(const cl::Program& program);
-  void run(cl_host::Queue& queue, const RasterParams& params);
+  void run(runtime::Queue& queue, const RasterParams& params);
 
  private:
   cl::Kernel kernel_;
   std::size_t group_size_;  // work-items per tile: the kernel's reqd_work_group_size
 };
 
-}  // namespace clraster::stages
+}  // namespace clraster::raster

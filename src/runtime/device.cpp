@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <string>
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 namespace {
 
 const char* type_name(cl_device_type type) {
@@ -117,4 +117,4 @@ Device select_device(int index) {
   return devices[static_cast<std::size_t>(chosen)];
 }
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 
 struct Device {
   cl::Device device;
@@ -33,4 +33,4 @@ std::optional<KernelExcess> kernel_beyond_limits(const cl::Program& program, con
 // Throws DeviceError for an index that does not exist or a malformed CLRASTER_DEVICE.
 Device select_device(int index);
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

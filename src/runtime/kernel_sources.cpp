@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace clraster::cl_sources {
+namespace clraster::runtime::sources {
 namespace {
 
 // The file an `#include "path"` line names; empty for any other line.
@@ -55,4 +55,4 @@ std::string core_program() {
   return source;
 }
 
-}  // namespace clraster::cl_sources
+}  // namespace clraster::runtime::sources

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-namespace clraster::cl_sources {
+namespace clraster::runtime::sources {
 
 struct SourceFile {
   const char* name;  // path relative to src/, e.g. "geometry/vertex.cl"
@@ -42,4 +42,4 @@ class Composer {
 // that run a user program are generated per program (program/generator.hpp).
 std::string core_program();
 
-}  // namespace clraster::cl_sources
+}  // namespace clraster::runtime::sources

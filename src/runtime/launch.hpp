@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 
 // The work-group size a kernel was compiled for (its reqd_work_group_size, x).
 inline std::size_t compiled_group_size(const cl::Kernel& kernel) {
@@ -77,4 +77,4 @@ void read_uints(Queue& queue, const cl::Buffer& buffer, std::size_t index, std::
   queue.get().enqueueReadBuffer(buffer, CL_TRUE, index * sizeof values[0], sizeof values, values.data());
 }
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

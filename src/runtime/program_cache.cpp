@@ -10,7 +10,7 @@
 #include <unistd.h>
 #include <vector>
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 namespace {
 
 constexpr char kMagic[] = "clraster-program-binary-1\n";
@@ -178,4 +178,4 @@ void ProgramCache::trim(const std::filesystem::path& kept) const {
   }
 }
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

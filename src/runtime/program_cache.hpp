@@ -13,7 +13,7 @@
 #include <string>
 #include <unordered_map>
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 
 class ProgramCache {
  public:
@@ -38,4 +38,4 @@ class ProgramCache {
   std::unordered_map<std::string, cl::Program> programs_;
 };
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

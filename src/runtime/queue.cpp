@@ -1,6 +1,6 @@
 #include "runtime/queue.hpp"
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 
 StageTimes Queue::collect() {
   StageTimes times;
@@ -20,4 +20,4 @@ StageTimes Queue::collect() {
   return times;
 }
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

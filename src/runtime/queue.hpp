@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace clraster::cl_host {
+namespace clraster::runtime {
 
 enum class Stage { Vertex, Setup, Binning, Raster, Other };
 
@@ -39,4 +39,4 @@ class Queue {
   std::vector<std::pair<Stage, cl::Event>> events_;
 };
 
-}  // namespace clraster::cl_host
+}  // namespace clraster::runtime

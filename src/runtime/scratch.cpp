@@ -6,7 +6,7 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace clraster::resources {
+namespace clraster::runtime {
 
 void ScratchArena::set_capacities(const ScratchSizes& capacities) {
   capacities_ = capacities;
@@ -36,4 +36,4 @@ const cl::Buffer& ScratchArena::get(Scratch id, std::size_t bytes) {
 
 std::size_t ScratchArena::bytes_held() const { return std::accumulate(sizes_.begin(), sizes_.end(), std::size_t{0}); }
 
-}  // namespace clraster::resources
+}  // namespace clraster::runtime

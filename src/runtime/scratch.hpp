@@ -7,7 +7,7 @@
 #include <array>
 #include <cstddef>
 
-namespace clraster::resources {
+namespace clraster::runtime {
 
 enum class Scratch : int {
   ShadedVertices,   // vertex stage output
@@ -53,4 +53,4 @@ class ScratchArena {
   std::size_t peak_bytes_ = 0;
 };
 
-}  // namespace clraster::resources
+}  // namespace clraster::runtime

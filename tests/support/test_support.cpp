@@ -69,7 +69,7 @@ struct ClrasterMesh {
 }  // namespace
 
 std::string builtin_stage_program() {
-  const std::string source = cl_sources::text("program/builtin/normal.cl");
+  const std::string source = runtime::sources::text("program/builtin/normal.cl");
   return program::generate_stage_program(program::parse_program(source, "normal.cl"), source, "normal.cl");
 }
 
