@@ -522,5 +522,37 @@ TEST(Examples, CustomDepthTestPeelsTheSecondLayerAsOpenGLDoes) {
   EXPECT_TRUE(images_match(run_example("custom_depth"), custom_depth_gl(), kSameScene));
 }
 
+// ---- view_batch.cpp -------------------------------------------------------------------------------
+
+// Each of the contact sheet's 16 pictures is what llvmpipe draws from that view's camera alone.
+TEST(Examples, ViewBatchDrawsEachViewAsOpenGLDrawsItsCamera) {
+  constexpr int kSide = 160, kColumns = 4, kViews = 16;
+  const Image sheet = run_example("view_batch");
+  ASSERT_EQ(sheet.width, kColumns * kSide);
+  ASSERT_EQ(sheet.height, kViews / kColumns * kSide);
+  const io::Mesh knot = io::make_torus_knot(2, 3, 256, 16, 1.0f, 0.45f, 0.3f);
+  for (int k = 0; k < kViews; ++k) {
+    SCOPED_TRACE("view " + std::to_string(k));
+    const float degree = std::acos(-1.0f) / 180.0f;
+    const float azimuth = degree * (30.0f + 90.0f * static_cast<float>(k % kColumns));
+    const float elevation = degree * (-50.0f + 30.0f * static_cast<float>(k / kColumns));
+    io::Camera camera;
+    camera.eye = {5.0f * std::cos(elevation) * std::sin(azimuth), 5.0f * std::sin(elevation),
+                  5.0f * std::cos(elevation) * std::cos(azimuth)};
+    camera.near_plane = 1.0f;
+    camera.far_plane = 10.0f;
+    DrawState state;
+    state.model_view = io::to_mat4(io::view_matrix(camera));
+    state.projection = io::to_mat4(io::projection_matrix(camera, 1.0f));
+    Image picture{kSide, kSide, std::vector<std::uint8_t>(std::size_t(kSide) * kSide * 4)};
+    for (int y = 0; y < kSide; ++y) {
+      const std::size_t row = std::size_t(k / kColumns * kSide + y) * std::size_t(sheet.width) + std::size_t(k % kColumns * kSide);
+      std::copy_n(&sheet.rgba[row * 4], kSide * 4, &picture.rgba[std::size_t(y) * kSide * 4]);
+    }
+    ASSERT_GT(covered_pixel_count(picture), std::uint64_t{kSide} * kSide / 10);
+    EXPECT_TRUE(images_match(picture, render_gl(knot, state, kSide, kSide), kNormalShading));
+  }
+}
+
 }  // namespace
 }  // namespace clraster::test
