@@ -150,7 +150,7 @@ class Pipeline {
     const RenderTarget* target = nullptr;
     ProgramStages* stages = nullptr;
     std::size_t outputs = 0;  // the program's
-    cl::Buffer draws;         // DrawUniforms table (entry 0's raster state)
+    cl::Buffer draws;         // one DrawUniforms: the raster state (a pass: its lead's, over every entry's clip rectangle)
     const geometry::ProgramResources* resources = nullptr;
     std::uint32_t tiles_x = 0, tiles_y = 0;
     std::uint64_t pair_capacity = 0;
