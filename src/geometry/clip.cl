@@ -7,7 +7,6 @@
  * leaves every visible edge where the vertices put it, as llvmpipe does. Together the guard planes
  * also imply w >= 0, so clipped polygons never cross w = 0. */
 
-#include "raster/span.cl" /* CLR_SPAN_CAT */
 #include "shared/clr_limits.h"
 #include "shared/types.h"
 
@@ -34,10 +33,10 @@ typedef struct {
 #else
 #error "CLR_VERTEX_LANES must be 1 or 8"
 #endif
-typedef CLR_SPAN_CAT(float, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_float;
-typedef CLR_SPAN_CAT(int, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_int; /* also masks: -1 true in vectors, 1 in scalars */
-#define CLR_VERTEX_LANES_TO_INT_RTE(value) CLR_SPAN_CAT(CLR_SPAN_CAT(convert_int, CLR_VERTEX_LANE_SUFFIX), _rte)(value)
-#define CLR_VERTEX_LANES_TO_FLOAT(value) CLR_SPAN_CAT(convert_float, CLR_VERTEX_LANE_SUFFIX)(value)
+typedef CLR_CAT(float, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_float;
+typedef CLR_CAT(int, CLR_VERTEX_LANE_SUFFIX) vertex_lanes_int; /* also masks: -1 true in vectors, 1 in scalars */
+#define CLR_VERTEX_LANES_TO_INT_RTE(value) CLR_CAT(CLR_CAT(convert_int, CLR_VERTEX_LANE_SUFFIX), _rte)(value)
+#define CLR_VERTEX_LANES_TO_FLOAT(value) CLR_CAT(convert_float, CLR_VERTEX_LANE_SUFFIX)(value)
 
 /* Clip-space positions, one vertex per lane. */
 typedef struct {

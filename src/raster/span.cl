@@ -73,11 +73,9 @@
 #define CLR_QUAD_SPAN_X (int8)(0, 1, 0, 1, 0, 1, 0, 1)          /* each lane's pixel from its quad's first */
 #define CLR_QUAD_SPAN_Y (int8)(0, 0, 0, 0, 1, 1, 1, 1)
 #endif
-#define CLR_SPAN_PASTE(a, b) a##b
-#define CLR_SPAN_CAT(a, b) CLR_SPAN_PASTE(a, b)
-#define CLR_SPAN(type) CLR_SPAN_CAT(type, CLR_SPAN_SUFFIX)         /* float -> float8, or float */
-#define CLR_SPAN_CONVERT(type, value) CLR_SPAN_CAT(convert_, CLR_SPAN(type))(value)
-#define CLR_SPAN_AS(type, value) CLR_SPAN_CAT(as_, CLR_SPAN(type))(value)
+#define CLR_SPAN(type) CLR_CAT(type, CLR_SPAN_SUFFIX)         /* float -> float8, or float */
+#define CLR_SPAN_CONVERT(type, value) CLR_CAT(convert_, CLR_SPAN(type))(value)
+#define CLR_SPAN_AS(type, value) CLR_CAT(as_, CLR_SPAN(type))(value)
 typedef CLR_SPAN(float) clr_span_float;
 typedef CLR_SPAN(int) clr_span_int;
 typedef CLR_SPAN(uint) clr_span_uint;

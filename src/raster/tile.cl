@@ -126,7 +126,7 @@ CLR_INLINE clr_span_uint pack_rgba8_span(__local const uint* tile_channels, bool
  * a version for eight work-items at once, that a group of one never runs, in most of a program's
  * build time (88 -> 13 s for the built-in normal shading). */
 #if CLR_RASTER_GROUP < CLR_CPU_SPAN_PIXELS
-#define CLR_RASTER_WIDTH_HINT __attribute__((vec_type_hint(CLR_SPAN_CAT(float, CLR_CPU_SPAN_PIXELS))))
+#define CLR_RASTER_WIDTH_HINT __attribute__((vec_type_hint(CLR_CAT(float, CLR_CPU_SPAN_PIXELS))))
 #else
 #define CLR_RASTER_WIDTH_HINT
 #endif

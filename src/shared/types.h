@@ -23,6 +23,9 @@
  * points) is static for the same reason, but for two that Oclgrind cannot run inlined
  * (resources/texture_span.cl). */
 #define CLR_INLINE static inline __attribute__((always_inline))
+/* a##b after both are expanded: vector type names built from a width macro (float ## 8). */
+#define CLR_PASTE(a, b) a##b
+#define CLR_CAT(a, b) CLR_PASTE(a, b)
 typedef long clr_long;
 typedef int clr_int;
 typedef uint clr_uint;
