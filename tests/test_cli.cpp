@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <string_view>
@@ -421,6 +422,7 @@ struct BadOption {
   const char* name;
   std::vector<std::string> args;
   const char* subject;
+  int exit_code = 2;  // a usage error, as CLI11's own; 1 for what the machine (not the command line) lacks
 };
 
 class RejectedRenderOption : public ::testing::TestWithParam<BadOption> {};
@@ -430,6 +432,7 @@ TEST_P(RejectedRenderOption, WithAClearMessage) {
   // The message from its start: the subject is the whole of it, or all but a count the machine gives
   // (devices) or the list CLI11 prints.
   EXPECT_TRUE(result.err.starts_with("clraster: error: " + std::string(GetParam().subject))) << result.err;
+  EXPECT_EQ(result.exit_code, GetParam().exit_code) << result;
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -469,7 +472,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"MemoryCapBelowTheMinimum", {"--memory-cap", "3"}, "--memory-cap: Value 3 not in range 4 to 1048576"},
         BadOption{"FramesNegative", {"--frames", "-1"}, "--frames: Value -1 not in range 0 to 100000"},
         BadOption{"DeviceNegative", {"--device", "-1"}, "--device: Value -1 not in range 0 to 1048576"},
-        BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "no OpenCL device 1000: this machine has "}),
+        BadOption{"FovNotFinite", {"--fov", "nan"}, "camera: fov_degrees must be finite, got nan"},
+        BadOption{"FarNotFinite", {"--far", "inf"}, "camera: far_plane must be finite, got inf"},
+        BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "no OpenCL device 1000: this machine has ", 1}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // A program declaring `declarations`, whose functions use none of them but the output `color`, for
@@ -546,7 +551,9 @@ TEST(CliBadInput, ProgramTogetherWithShading) {
 }
 
 TEST(CliBadInput, ProgramOnTheGlBackend) {
-  expect_render_rejected({triangle_file().string(), "--program", "lit.cl", "--backend", "gl"}, "--program lit.cl");
+  const CliResult result =
+      expect_render_rejected({triangle_file().string(), "--program", "lit.cl", "--backend", "gl"}, "--program lit.cl");
+  EXPECT_EQ(result.exit_code, 2);
 }
 
 struct BadModelFile {
@@ -656,6 +663,41 @@ INSTANTIATE_TEST_SUITE_P(Paths, UnwritableOutput,
                                            BadOutput{"FullDevice", "/dev/full"},
                                            BadOutput{"ReadOnlyProcFile", "/proc/version"}),
                          [](const auto& info) { return info.param.name; });
+
+TEST(CliBadInput, EmptyOutputPathIsAUsageError) {
+  const CliResult result = run_cli({"render", "--output", ""});
+  EXPECT_TRUE(failed_with_error(result, "--output: the path is empty"));
+  EXPECT_EQ(result.exit_code, 2);
+}
+
+// A write that fails half way (here at the file size limit, as on a full disk) leaves the earlier
+// picture as it was, and no temporary file beside it.
+TEST(CliBadInput, FailedWriteLeavesTheEarlierPicture) {
+  const fs::path directory = scratch_directory() / "failed-write";
+  fs::remove_all(directory);
+  fs::create_directories(directory);
+  const fs::path output = directory / "picture.png";
+  const std::string earlier = "an earlier picture\n";
+  std::ofstream(output) << earlier;
+  // 1 KiB at most per file; SIGXFSZ ignored (kept over exec), so the write fails with EFBIG. A first
+  // run without the limit fills the program caches (PoCL aborts when it cannot write its own).
+  ASSERT_TRUE(succeeded(run_cli({"render", "--size", "64x64", "--output", (directory / "warm-up.png").string()})));
+  fs::remove(directory / "warm-up.png");
+  const CliResult result = run_executable(
+      "/bin/bash", {"-c", "ulimit -f 1 && trap '' XFSZ && exec \"$0\" render --size 64x64 --output \"$1\"",
+                    CLRASTER_CLI_PATH, output.string()});
+  EXPECT_TRUE(failed_with_error(result, "cannot write " + output.string() + ": File too large"));
+  EXPECT_EQ(read_file(output), earlier);
+  EXPECT_EQ(std::distance(fs::directory_iterator(directory), fs::directory_iterator()), 1);
+}
+
+// Bytes of a file's name or contents that a terminal would act on are printed as escapes.
+TEST(CliBadInput, ControlBytesInMessagesAreEscaped) {
+  const std::string model = "/nonexistent/\x1b]0;title\x07\x1b[31mred\r\xc2\x9b.obj";
+  const CliResult result = run_cli({"render", "--output", (scratch_directory() / "escaped.png").string(), model});
+  EXPECT_TRUE(failed_with_error(result, "/nonexistent/\\x1b]0;title\\x07\\x1b[31mred\\x0d\\xc2\\x9b.obj"));
+  EXPECT_EQ(result.err.find('\x1b'), std::string::npos) << result;
+}
 
 // Two pictures for compare: 8x4 and 4x4.
 struct ComparePictures {

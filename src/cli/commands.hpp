@@ -5,8 +5,27 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 
 namespace clraster::cli {
+
+// A command line the user must change: a bad option value or combination (exit code 2, as for
+// what CLI11 rejects), as against a failure while doing what was asked (exit code 1).
+class UsageError : public InvalidArgument {
+ public:
+  using InvalidArgument::InvalidArgument;
+};
+
+// Runs `check` (which validates what the user gave), its InvalidArgument a UsageError.
+template <typename Check>
+decltype(auto) as_usage_error(Check&& check) {
+  try {
+    return std::forward<Check>(check)();
+  } catch (const InvalidArgument& error) {
+    throw UsageError(error.what());
+  }
+}
 
 enum class Backend { Clraster, Gl };
 // Normal, Lambert, Depth and Overdraw are the library's built-in shadings (clraster::Shading);
@@ -50,13 +69,18 @@ struct BenchOptions {
   std::string pictures;  // a directory for each scene's pictures; empty: none are written
 };
 
+// `text` safe to print on a terminal: control bytes (but newline and tab), C1 controls and bytes
+// that are not UTF-8 become \xNN escapes, so a file's contents quoted in a message cannot move
+// the cursor, recolour or retitle the user's terminal.
+std::string printable(std::string_view text);
+
 int render(const RenderOptions& options);
 int compare(const CompareOptions& options);
 int bench(const BenchOptions& options);
 int devices();
 
 // Refuses an output path that cannot be written before any work is done, so a long run never
-// ends in a failed save.
+// ends in a failed save (an empty path is a UsageError).
 void check_output_writable(const std::string& path);
 
 // The camera a render uses: `base` (fitted to the model, or the demo's), overridden by the options.

@@ -39,9 +39,9 @@ void parse_size(const std::string& text, int& width, int& height) {
   const std::size_t x = text.find_first_of("xX");
   const std::optional<long long> w = x == std::string::npos ? std::nullopt : parse_side(std::string_view(text).substr(0, x));
   const std::optional<long long> h = x == std::string::npos ? std::nullopt : parse_side(std::string_view(text).substr(x + 1));
-  if (!w || !h) throw InvalidArgument("--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got '" + text + "'");
+  if (!w || !h) throw UsageError("--size: expected WIDTHxHEIGHT, e.g. 1920x1080, got '" + text + "'");
   if (*w < 1 || *h < 1 || *w > kMaxFramebufferSize || *h > kMaxFramebufferSize) {
-    throw InvalidArgument("--size " + text + " is out of range: each side must be 1.." +
+    throw UsageError("--size " + text + " is out of range: each side must be 1.." +
                           std::to_string(kMaxFramebufferSize));
   }
   width = static_cast<int>(*w);
@@ -81,6 +81,52 @@ std::vector<std::string> join_negative_values(int argc, char** argv) {
 }
 
 }  // namespace
+
+namespace clraster::cli {
+namespace {
+
+// The length of the character at text[i] when it is safe to print as it is: printable ASCII, a
+// newline or a tab, or a well-formed UTF-8 sequence (no overlong form, surrogate or code point past
+// U+10FFFF) that is not a C1 control (U+0080..U+009F); 0 for anything else.
+std::size_t printable_length(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return i + k < text.size() ? static_cast<unsigned char>(text[i + k]) : 0u; };
+  const auto continued = [&](std::size_t count) {
+    for (std::size_t k = 1; k <= count; ++k) {
+      if ((byte(k) & 0xc0) != 0x80) return false;
+    }
+    return true;
+  };
+  const unsigned lead = byte(0), second = byte(1);
+  if (lead < 0x80) return (lead >= 0x20 && lead != 0x7f) || lead == '\n' || lead == '\t' ? 1 : 0;
+  if (lead >= 0xc2 && lead <= 0xdf) return continued(1) && !(lead == 0xc2 && second < 0xa0) ? 2 : 0;
+  if (lead >= 0xe0 && lead <= 0xef) {
+    return continued(2) && !(lead == 0xe0 && second < 0xa0) && !(lead == 0xed && second > 0x9f) ? 3 : 0;
+  }
+  if (lead >= 0xf0 && lead <= 0xf4) {
+    return continued(3) && !(lead == 0xf0 && second < 0x90) && !(lead == 0xf4 && second > 0x8f) ? 4 : 0;
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::string printable(std::string_view text) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    if (const std::size_t length = printable_length(text, i); length > 0) {
+      out.append(text.substr(i, length));
+      i += length;
+    } else {
+      const auto byte = static_cast<unsigned char>(text[i++]);
+      out += {'\\', 'x', kHex[byte >> 4], kHex[byte & 15]};
+    }
+  }
+  return out;
+}
+
+}  // namespace clraster::cli
 
 int main(int argc, char** argv) {
   CLI::App app{"clraster: a programmable graphics pipeline in OpenCL kernels, on any OpenCL device.", "clraster"};
@@ -179,7 +225,7 @@ int main(int argc, char** argv) {
       std::none_of(commands.begin(), commands.end(), [&](CLI::App* c) { return c->get_name() == argv[1]; })) {
     std::string names;
     for (const CLI::App* command : commands) names += (names.empty() ? "" : ", ") + command->get_name();
-    std::cerr << "clraster: error: unknown command '" << argv[1] << "' (commands: " << names << "; see --help)\n";
+    std::cerr << "clraster: error: unknown command '" << printable(argv[1]) << "' (commands: " << names << "; see --help)\n";
     return 2;
   }
   try {
@@ -191,18 +237,25 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& version) {
     return app.exit(version);
   } catch (const CLI::ParseError& error) {
-    std::cerr << "clraster: error: " << error.what() << " (see clraster --help)\n";
+    std::cerr << "clraster: error: " << printable(error.what()) << " (see clraster --help)\n";
     return 2;
   }
 
   try {
     if (*render) {
       parse_size(size, render_options.width, render_options.height);
-      if (!eye.empty()) render_options.eye = io::parse_vec3(eye, "--eye");
-      if (!target.empty()) render_options.target = io::parse_vec3(target, "--target");
-      if (!up.empty()) render_options.up = io::parse_vec3(up, "--up");
+      const auto vector_option = [](const std::string& text, const char* name) {
+        return as_usage_error([&] { return io::parse_vec3(text, name); });
+      };
+      if (!eye.empty()) render_options.eye = vector_option(eye, "--eye");
+      if (!target.empty()) render_options.target = vector_option(target, "--target");
+      if (!up.empty()) render_options.up = vector_option(up, "--up");
       if (*near_option) render_options.near_plane = near_plane;
       if (*far_option) render_options.far_plane = far_plane;
+      // The camera's own numbers, before any work: a fitted camera is checked as a whole later.
+      as_usage_error([&] {
+        io::validate_lens(render_options.fov_degrees, render_options.near_plane, render_options.far_plane);
+      });
       render_options.memory_cap = memory_cap_mib << 20;
       return cli::render(render_options);
     }
@@ -213,15 +266,18 @@ int main(int argc, char** argv) {
       return cli::bench(bench_options);
     }
     if (*devices) return cli::devices();
+  } catch (const UsageError& error) {
+    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
+    return 2;
   } catch (const BuildError& error) {
     // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form
     // (docs/programs.md): printed as they are, under the first line. Other builds (the pipeline's
     // own kernels) say only which program failed: the compiler's log follows.
-    std::cerr << "clraster: error: " << error.what() << '\n';
-    if (std::string_view(error.what()).find('\n') == std::string_view::npos) std::cerr << error.log() << '\n';
+    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
+    if (std::string_view(error.what()).find('\n') == std::string_view::npos) std::cerr << printable(error.log()) << '\n';
     return 1;
   } catch (const std::exception& error) {
-    std::cerr << "clraster: error: " << error.what() << '\n';
+    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
     return 1;
   }
   return 0;

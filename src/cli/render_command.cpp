@@ -47,7 +47,7 @@ bool draws_materials(const RenderOptions& options) {
 }
 
 void print_warnings(const std::vector<std::string>& warnings) {
-  for (const std::string& warning : warnings) std::cerr << "clraster: warning: " << warning << '\n';
+  for (const std::string& warning : warnings) std::cerr << "clraster: warning: " << printable(warning) << '\n';
 }
 
 // The model file, or the built-in demo scene as a model of one part with a white material.
@@ -110,7 +110,7 @@ Program compile(Context& context, const frontend::ProgramSource& program) {
     while (std::fgets(line, sizeof line, captured.get()) != nullptr) {
       std::string text(line);
       if (!text.empty() && text.back() == '\n') text.pop_back();
-      if (!std::regex_match(text, summary)) std::cerr << text << '\n';
+      if (!std::regex_match(text, summary)) std::cerr << printable(text) << '\n';
     }
   };
   try {
@@ -219,6 +219,7 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
 
 void check_output_writable(const std::string& path) {
   namespace fs = std::filesystem;
+  if (path.empty()) throw UsageError("--output: the path is empty");
   const fs::path file(path);
   std::error_code error;
   if (fs::is_directory(file, error)) throw InvalidArgument("cannot write " + path + ": it is a directory");
@@ -244,13 +245,14 @@ io::Camera choose_camera(const RenderOptions& options, const io::BoundingSphere&
   if (options.up) camera.up = *options.up;
   if (options.near_plane) camera.near_plane = *options.near_plane;
   if (options.far_plane) camera.far_plane = *options.far_plane;
-  io::validate_camera(camera);
+  // The fitted camera is valid: what makes this one invalid came from the options.
+  as_usage_error([&] { io::validate_camera(camera); });
   return camera;
 }
 
 int render(const RenderOptions& options) {
   if (!options.program.empty() && options.backend == Backend::Gl) {
-    throw InvalidArgument("--program " + options.program +
+    throw UsageError("--program " + options.program +
                           ": the gl backend cannot run OpenCL C programs (it draws the --shading modes, material "
                           "included); use --backend clraster");
   }

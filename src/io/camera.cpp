@@ -65,9 +65,7 @@ clraster::Mat4 to_mat4(const glm::mat4& matrix) {
 
 Camera fit_camera(const BoundingSphere& sphere, float aspect, float fov_degrees) {
   require_aspect("fit_camera", aspect);
-  if (!(fov_degrees > 0 && fov_degrees < 180)) {
-    throw InvalidArgument("fit_camera: fov_degrees must be in (0, 180), got " + format_number(fov_degrees));
-  }
+  validate_lens(fov_degrees);
   const double radius = sphere.radius > 0 ? sphere.radius : 1.0;
   // A sphere at distance d fits between two planes through the eye at angle a to the view axis
   // when d * sin(a) >= radius. The horizontal half angle follows from the vertical one and the aspect.
@@ -91,23 +89,27 @@ Camera fit_camera(const BoundingSphere& sphere, float aspect, float fov_degrees)
   return camera;
 }
 
+void validate_lens(float fov_degrees, std::optional<float> near_plane, std::optional<float> far_plane) {
+  require_finite("fov_degrees", fov_degrees);
+  if (near_plane) require_finite("near_plane", *near_plane);
+  if (far_plane) require_finite("far_plane", *far_plane);
+  if (!(fov_degrees > 0 && fov_degrees < 180)) {
+    throw InvalidArgument("camera: fov_degrees must be in (0, 180), got " + format_number(fov_degrees));
+  }
+  if (near_plane && !(*near_plane > 0)) {
+    throw InvalidArgument("camera: near_plane must be greater than 0, got " + format_number(*near_plane));
+  }
+  if (near_plane && far_plane && !(*far_plane > *near_plane)) {
+    throw InvalidArgument("camera: far_plane must be greater than near_plane (" + format_number(*near_plane) +
+                          "), got " + format_number(*far_plane));
+  }
+}
+
 void validate_camera(const Camera& camera) {
   require_finite_vec3("eye", camera.eye);
   require_finite_vec3("target", camera.target);
   require_finite_vec3("up", camera.up);
-  require_finite("fov_degrees", camera.fov_degrees);
-  require_finite("near_plane", camera.near_plane);
-  require_finite("far_plane", camera.far_plane);
-  if (!(camera.fov_degrees > 0 && camera.fov_degrees < 180)) {
-    throw InvalidArgument("camera: fov_degrees must be in (0, 180), got " + format_number(camera.fov_degrees));
-  }
-  if (!(camera.near_plane > 0)) {
-    throw InvalidArgument("camera: near_plane must be greater than 0, got " + format_number(camera.near_plane));
-  }
-  if (!(camera.far_plane > camera.near_plane)) {
-    throw InvalidArgument("camera: far_plane must be greater than near_plane (" + format_number(camera.near_plane) +
-                          "), got " + format_number(camera.far_plane));
-  }
+  validate_lens(camera.fov_degrees, camera.near_plane, camera.far_plane);
   if (camera.eye == camera.target) {
     throw InvalidArgument("camera: eye and target are the same point " + format_vec3(camera.eye));
   }

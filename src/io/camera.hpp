@@ -1,6 +1,7 @@
 // A pinhole camera as the command line describes it, and the OpenGL matrices it stands for.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <glm/mat4x4.hpp>
@@ -41,6 +42,11 @@ clraster::Mat4 to_mat4(const glm::mat4& matrix);
 // Throws InvalidArgument for a non-positive or non-finite aspect or fov, or a sphere too large to
 // frame in float.
 Camera fit_camera(const BoundingSphere& sphere, float aspect, float fov_degrees = 45);
+
+// Throws InvalidArgument naming the first bad value of those given: a non-finite value,
+// fov_degrees outside (0, 180), near_plane <= 0, far_plane <= near_plane. (A camera's own numbers,
+// which a command line can check before it has a scene to fit a camera to.)
+void validate_lens(float fov_degrees, std::optional<float> near_plane = {}, std::optional<float> far_plane = {});
 
 // Throws InvalidArgument naming the first bad value: a non-finite value, fov_degrees outside
 // (0, 180), near_plane <= 0, far_plane <= near_plane, eye == target, or up zero or parallel to the

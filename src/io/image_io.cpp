@@ -3,11 +3,17 @@
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <memory>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace clraster::io {
 namespace {
@@ -24,19 +30,6 @@ File open_or_throw(const std::string& path, const char* mode, const char* verb) 
   if (!file) throw Error(std::string("cannot ") + verb + " " + path + ": " + std::strerror(errno));
   return file;
 }
-
-// Where stbi_write_png_to_func streams the encoded bytes; remembers whether any write failed.
-struct PngSink {
-  std::FILE* file;
-  int error = 0;
-
-  static void write(void* context, void* data, int size) {
-    auto& sink = *static_cast<PngSink*>(context);
-    if (sink.error == 0 && std::fwrite(data, 1, size, sink.file) != static_cast<std::size_t>(size)) {
-      sink.error = errno;
-    }
-  }
-};
 
 using Pixels = std::unique_ptr<stbi_uc, decltype(&stbi_image_free)>;
 
@@ -86,17 +79,6 @@ void require_consistent(const Image& image, const std::string& what) {
   }
 }
 
-void save_png(const std::string& path, const Image& image) {
-  require_consistent(image, path);
-  File file = open_or_throw(path, "wb", "write");
-  PngSink sink{file.get()};
-  const int encoded = stbi_write_png_to_func(&PngSink::write, &sink, image.width, image.height, 4,
-                                             image.rgba.data(), image.width * 4);
-  if (std::fflush(file.get()) != 0 && sink.error == 0) sink.error = errno;
-  if (sink.error != 0) throw Error("cannot write " + path + ": " + std::strerror(sink.error));
-  if (!encoded) throw Error("cannot write " + path + ": PNG encoding failed");
-}
-
 std::vector<std::byte> encode_png(const Image& image) {
   require_consistent(image, "a PNG");
   std::vector<std::byte> encoded;
@@ -109,6 +91,68 @@ std::vector<std::byte> encode_png(const Image& image) {
     throw Error("PNG encoding failed");
   }
   return encoded;
+}
+
+void save_png(const std::string& path, const Image& image) {
+  require_consistent(image, path);
+  write_file_atomically(path, encode_png(image));
+}
+
+namespace {
+
+void write_all(int fd, std::span<const std::byte> bytes, const std::function<void(int)>& fail) {
+  for (std::size_t written = 0; written < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail(n < 0 ? errno : EIO);
+    written += static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+// The bytes go to a new file beside `path` (same directory, so the rename cannot cross file
+// systems), are flushed to the disk, and replace `path` in one rename: a reader sees the old file or
+// the new one, never a part, and a failure at any step leaves the old one as it was. A path that is
+// not a regular file (/dev/stdout, a FIFO) is written in place: there is no file to keep.
+void write_file_atomically(const std::string& path, std::span<const std::byte> bytes) {
+  const auto fail = [&](int error) { throw Error("cannot write " + path + ": " + std::strerror(error)); };
+  struct stat existing {};
+  const bool exists = ::stat(path.c_str(), &existing) == 0;
+  if (exists && S_ISDIR(existing.st_mode)) fail(EISDIR);
+  if (exists && !S_ISREG(existing.st_mode)) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) fail(errno);
+    write_all(fd, bytes, [&](int error) {
+      ::close(fd);
+      fail(error);
+    });
+    if (::close(fd) != 0) fail(errno);
+    return;
+  }
+  static std::atomic<unsigned> sequence{0};
+  std::string temporary = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(sequence++);
+  // O_EXCL: never someone else's file; mode 0666 less the umask, as a plain open would create it.
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) fail(errno);
+  const auto abandon = [&](int error) {
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    fail(error);
+  };
+  // A file being replaced keeps its permissions.
+  if (exists && ::fchmod(fd, existing.st_mode & 07777) != 0) abandon(errno);
+  write_all(fd, bytes, abandon);
+  if (::fsync(fd) != 0) abandon(errno);
+  if (::close(fd) != 0) {
+    ::unlink(temporary.c_str());
+    fail(errno);
+  }
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(temporary.c_str());
+    fail(error);
+  }
 }
 
 }  // namespace clraster::io

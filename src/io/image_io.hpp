@@ -18,10 +18,15 @@ clraster::Image load_png(const std::string& path);
 // clraster::Error naming `name` and why the bytes could not be decoded.
 clraster::Image decode_image(std::span<const std::byte> encoded, const std::string& name);
 
-// Writes an RGBA8 image as PNG, replacing the file. Throws clraster::InvalidArgument when the
-// image's size and pixel data disagree, and clraster::Error naming the path and the system's
-// reason when the file cannot be written.
+// Writes an RGBA8 image as PNG, replacing the file atomically (write_file_atomically). Throws
+// clraster::InvalidArgument when the image's size and pixel data disagree, and clraster::Error
+// naming the path and the system's reason when the file cannot be written.
 void save_png(const std::string& path, const clraster::Image& image);
+
+// Replaces the file at `path` with `bytes`, or leaves it untouched: the bytes are written to a
+// temporary file beside it, synced and renamed over it; on any failure the temporary file is
+// removed. Throws clraster::Error naming the path and the system's reason.
+void write_file_atomically(const std::string& path, std::span<const std::byte> bytes);
 
 // The same PNG file's bytes, in memory (as a model file embeds an image). Throws InvalidArgument for
 // an inconsistent image.
