@@ -19,6 +19,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -135,6 +136,10 @@ struct ContextOptions {
   std::string cache_dir;
   // Measure each pipeline stage's device time (DrawStats::stage_times). Costs a little per command.
   bool profile = false;
+  // Hears, one line each, what the context recovered from by itself: a program-cache entry that was
+  // damaged (or that the driver rejected) and was rebuilt. Unset: written to stderr as
+  // "clraster: warning: ...".
+  std::function<void(const std::string& message)> on_warning;
   // Unset: $CLRASTER_WORK_GROUP_SHAPE ("device" or "wide"), else Device (Context::options() then
   // says which it took).
   std::optional<WorkGroupShape> work_group_shape;

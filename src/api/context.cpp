@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstdlib>
+#include <iostream>
 #include <string>
 #include <string_view>
 
@@ -39,6 +40,8 @@ WorkGroupShape shape_from_environment() {
   throw InvalidArgument(std::string("CLRASTER_WORK_GROUP_SHAPE='") + text + "' is neither 'device' nor 'wide'");
 }
 
+void print_warning(const std::string& message) { std::cerr << "clraster: warning: " << message << std::endl; }
+
 // The largest power of two at most `limit` (which is at least 1).
 std::size_t power_of_two_at_most(std::size_t limit) { return std::bit_floor(std::max<std::size_t>(limit, 1)); }
 
@@ -49,7 +52,7 @@ ContextState::ContextState(const ContextOptions& options_in, runtime::Device dev
       device(std::move(device_in)),
       context(device.device),
       queue(cl::CommandQueue(context, device.device, options.profile ? CL_QUEUE_PROFILING_ENABLE : 0), options.profile),
-      programs(context, device, options.cache_dir) {
+      programs(context, device, options.cache_dir, options.on_warning ? options.on_warning : print_warning) {
   if (!options.work_group_shape) options.work_group_shape = shape_from_environment();
   const std::size_t group_limit = device.info.work_group_items;
   // The GPU shapes take a work-item per pixel of a tile, so the tile is the largest whose pixels

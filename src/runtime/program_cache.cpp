@@ -1,19 +1,25 @@
 #include "runtime/program_cache.hpp"
+#include "runtime/files.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
-#include <sstream>
+#include <string_view>
 #include <unistd.h>
 #include <vector>
 
 namespace clraster::runtime {
 namespace {
 
-constexpr char kMagic[] = "clraster-program-binary-1\n";
+// An entry: kMagic, the key's length and bytes, the binary's length and bytes (lengths as u64),
+// then the FNV-1a hash of everything before it. Another version's entries start with kMagicPrefix.
+constexpr std::string_view kMagicPrefix = "clraster-program-binary-";
+constexpr std::string_view kMagic = "clraster-program-binary-2\n";
+constexpr std::uint64_t kMaxBinaryBytes = std::uint64_t{CLR_MAX_PROGRAM_BINARY_MIB} << 20;
 
 std::filesystem::path default_cache_directory() {
   if (const char* dir = std::getenv("CLRASTER_CACHE_DIR"); dir != nullptr && *dir != '\0') return dir;
@@ -26,8 +32,9 @@ std::filesystem::path default_cache_directory() {
   return {};
 }
 
-// FNV-1a: names the cache file. Collisions are harmless because the file stores the full key.
-std::uint64_t fnv1a(const std::string& text) {
+// FNV-1a: names an entry's file (collisions are harmless: the entry holds the whole key) and checks
+// its contents (a damaged byte changes it but for a chance of 2^-64).
+std::uint64_t fnv1a(std::string_view text) {
   std::uint64_t hash = 0xcbf29ce484222325ull;
   for (unsigned char c : text) {
     hash ^= c;
@@ -36,27 +43,71 @@ std::uint64_t fnv1a(const std::string& text) {
   return hash;
 }
 
-void write_u64(std::ostream& out, std::uint64_t value) { out.write(reinterpret_cast<const char*>(&value), sizeof value); }
+void append_u64(std::string& out, std::uint64_t value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); }
 
-bool read_u64(std::istream& in, std::uint64_t& value) {
-  return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof value));
+// Reads a u64 at the front of `bytes` and drops it; false when there are fewer than 8 bytes.
+bool take_u64(std::string_view& bytes, std::uint64_t& value) {
+  if (bytes.size() < sizeof value) return false;
+  std::memcpy(&value, bytes.data(), sizeof value);
+  bytes.remove_prefix(sizeof value);
+  return true;
 }
 
-// An entry of ours (entry_path's name, kMagic first), not a file a user keeps in the same directory.
-bool is_entry(const std::filesystem::path& path) {
-  const std::string name = path.filename().string();
+// What an entry file's bytes hold: its key and binary, or why they cannot be used.
+struct ParsedEntry {
+  std::string_view key, binary;
+  std::string problem;         // empty when the entry is whole
+  bool other_version = false;  // another clraster's format: replaced without a word
+};
+
+ParsedEntry parse_entry(std::string_view bytes) {
+  ParsedEntry entry;
+  entry.other_version = bytes.starts_with(kMagicPrefix) && !bytes.starts_with(kMagic);
+  if (!bytes.starts_with(kMagic)) {
+    if (!entry.other_version) entry.problem = "it is not a cache entry";
+    return entry;
+  }
+  std::uint64_t checksum = 0, key_size = 0, binary_size = 0;
+  std::string_view rest = bytes.substr(kMagic.size());
+  if (rest.size() < sizeof checksum) {
+    entry.problem = "it is truncated";
+    return entry;
+  }
+  std::memcpy(&checksum, bytes.data() + bytes.size() - sizeof checksum, sizeof checksum);
+  rest.remove_suffix(sizeof checksum);
+  if (checksum != fnv1a(bytes.substr(0, bytes.size() - sizeof checksum))) {
+    entry.problem = "its checksum does not match its contents";
+  } else if (!take_u64(rest, key_size) || key_size > rest.size()) {
+    entry.problem = "its key length is wrong";
+  } else {
+    entry.key = rest.substr(0, key_size);
+    rest.remove_prefix(key_size);
+    if (!take_u64(rest, binary_size) || binary_size != rest.size() || binary_size == 0) {
+      entry.problem = "its binary length is wrong";
+    }
+    entry.binary = rest;
+  }
+  return entry;
+}
+
+// An entry of ours, of any version (entry_path's name, kMagicPrefix first), not a file a user keeps
+// in the same directory. Only a regular file is opened: a FIFO would block the read.
+bool is_entry(const std::filesystem::directory_entry& file) {
+  const std::string name = file.path().filename().string();
   const auto hex = [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; };
   if (name.size() != 20 || !name.ends_with(".bin") || !std::all_of(name.begin(), name.begin() + 16, hex)) return false;
-  std::ifstream in(path, std::ios::binary);
-  std::string magic(sizeof kMagic - 1, '\0');
-  return in.read(magic.data(), static_cast<std::streamsize>(magic.size())) && magic == kMagic;
+  std::error_code error;
+  if (!file.is_regular_file(error)) return false;
+  std::ifstream in(file.path(), std::ios::binary);
+  std::string magic(kMagicPrefix.size(), '\0');
+  return in.read(magic.data(), static_cast<std::streamsize>(magic.size())) && magic == kMagicPrefix;
 }
 
 }  // namespace
 
-ProgramCache::ProgramCache(cl::Context context, Device device, const std::string& cache_dir,
+ProgramCache::ProgramCache(cl::Context context, Device device, const std::string& cache_dir, Warn warn,
                            std::uintmax_t limit_bytes)
-    : context_(std::move(context)), device_(std::move(device)), limit_bytes_(limit_bytes) {
+    : context_(std::move(context)), device_(std::move(device)), warn_(std::move(warn)), limit_bytes_(limit_bytes) {
   directory_ = cache_dir.empty() ? default_cache_directory() : std::filesystem::path(cache_dir);
   if (directory_ == "off") directory_.clear();
 }
@@ -68,8 +119,9 @@ std::filesystem::path ProgramCache::entry_path(const std::string& key) const {
 }
 
 cl::Program ProgramCache::get(const std::string& name, const std::string& source, const std::string& options) {
-  const std::string key = device_.info.platform + '\n' + device_.info.name + '\n' + device_.info.driver_version +
-                          '\n' + device_.info.version + '\n' + options + '\n' + source;
+  const std::string key = std::string("clraster ") + version() + '\n' + device_.info.platform + '\n' +
+                          device_.info.name + '\n' + device_.info.driver_version + '\n' + device_.info.version +
+                          '\n' + options + '\n' + source;
   if (auto found = programs_.find(key); found != programs_.end()) return found->second;
 
   cl::Program program = directory_.empty() ? cl::Program() : load_binary(key, options);
@@ -94,36 +146,53 @@ cl::Program ProgramCache::build_from_source(const std::string& name, const std::
   return program;
 }
 
-// A cached binary that is missing, truncated, for another key or rejected by the driver is simply
-// rebuilt from source: the cache only ever saves time.
+// A cached binary that is missing, of another version or for another key is simply rebuilt from
+// source: the cache only ever saves time. One that is damaged (truncated, changed, not a regular
+// file) or that the driver rejects is rebuilt too, with a warning (the first time only).
 cl::Program ProgramCache::load_binary(const std::string& key, const std::string& options) {
   const std::filesystem::path path = entry_path(key);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
-  std::string magic(sizeof kMagic - 1, '\0');
-  std::uint64_t key_size = 0, binary_size = 0;
-  if (!in.read(magic.data(), static_cast<std::streamsize>(magic.size())) || magic != kMagic) return {};
-  if (!read_u64(in, key_size) || key_size != key.size()) return {};
-  std::string stored_key(key_size, '\0');
-  if (!in.read(stored_key.data(), static_cast<std::streamsize>(key_size)) || stored_key != key) return {};
-  if (!read_u64(in, binary_size) || binary_size == 0 || binary_size > (std::uint64_t{1} << 30)) return {};
-  std::vector<unsigned char> binary(binary_size);
-  if (!in.read(reinterpret_cast<char*>(binary.data()), static_cast<std::streamsize>(binary_size))) return {};
+  const FileContents file = read_regular_file(path, kMagic.size() + 24 + key.size() + kMaxBinaryBytes);
+  if (file.missing) return {};
+  if (!file) {
+    unusable(path, file.problem);
+    return {};
+  }
+  const ParsedEntry entry = parse_entry(file.bytes);
+  if (entry.other_version) return {};
+  if (!entry.problem.empty()) {
+    unusable(path, entry.problem);
+    return {};
+  }
+  if (entry.key != key) return {};
   try {
+    const std::vector<unsigned char> binary(entry.binary.begin(), entry.binary.end());
     cl::Program program(context_, {device_.device}, cl::Program::Binaries{binary});
     program.build({device_.device}, options.c_str());
     std::error_code error;  // the entry's time says when it was last used (trim)
     std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now(), error);
     return program;
-  } catch (const cl::Error&) {
+  } catch (const cl::Error& error) {
+    unusable(path, std::string("the driver rejected its binary (") + error.what() + ")");
     return {};
   }
+}
+
+void ProgramCache::unusable(const std::filesystem::path& path, const std::string& problem) {
+  if (warned_) return;
+  warned_ = true;
+  warn_("program cache entry " + path.string() + " cannot be used: " + problem + "; it is rebuilt");
 }
 
 // Written to a temporary file and renamed, so a concurrent reader never sees half an entry.
 void ProgramCache::store_binary(const std::string& key, const cl::Program& program) {
   std::vector<std::vector<unsigned char>> binaries = program.getInfo<CL_PROGRAM_BINARIES>();
   if (binaries.size() != 1 || binaries[0].empty()) return;
+  std::string entry(kMagic);
+  append_u64(entry, key.size());
+  entry += key;
+  append_u64(entry, binaries[0].size());
+  entry.append(reinterpret_cast<const char*>(binaries[0].data()), binaries[0].size());
+  append_u64(entry, fnv1a(entry));
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error) return;
@@ -133,11 +202,7 @@ void ProgramCache::store_binary(const std::string& key, const cl::Program& progr
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) return;
-    out.write(kMagic, sizeof kMagic - 1);
-    write_u64(out, key.size());
-    out.write(key.data(), static_cast<std::streamsize>(key.size()));
-    write_u64(out, binaries[0].size());
-    out.write(reinterpret_cast<const char*>(binaries[0].data()), static_cast<std::streamsize>(binaries[0].size()));
+    out.write(entry.data(), static_cast<std::streamsize>(entry.size()));
     if (!out) {
       out.close();
       std::filesystem::remove(temporary, error);
@@ -162,7 +227,7 @@ void ProgramCache::trim(const std::filesystem::path& kept) const {
   std::uintmax_t total = 0;
   std::error_code error;
   for (std::filesystem::directory_iterator it(directory_, error), end; !error && it != end; it.increment(error)) {
-    if (!is_entry(it->path())) continue;  // not temporary files being written, nor anyone else's
+    if (!is_entry(*it)) continue;  // not temporary files being written, nor anyone else's
     std::error_code size_error, time_error;
     const std::uintmax_t bytes = it->file_size(size_error);
     const std::filesystem::file_time_type used = it->last_write_time(time_error);
