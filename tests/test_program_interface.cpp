@@ -269,7 +269,7 @@ TEST(ProgramCompile, AMissingFileIsAnError) {
         try {
           Program::load(shared_context(), "/nonexistent/program.cl");
         } catch (const InvalidArgument& error) {
-          EXPECT_STREQ(error.what(), "cannot open program file /nonexistent/program.cl: No such file or directory");
+          EXPECT_STREQ(error.what(), "cannot read program file /nonexistent/program.cl: No such file or directory");
           throw;
         }
       },

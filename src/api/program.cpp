@@ -1,9 +1,10 @@
 #include "api/errors.hpp"
 #include "api/impl.hpp"
 #include "program/generator.hpp"
+#include "program/includes.hpp"
+#include "runtime/files.hpp"
 
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <regex>
 #include <sstream>
@@ -90,7 +91,8 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
   auto impl = std::make_unique<Program::Impl>();
   impl->state = state;
   impl->file_name = file_name;
-  impl->parsed = program::parse_program(source, file_name);
+  const std::string resolved = program::resolve_includes(source, file_name);
+  impl->parsed = program::parse_program(resolved, file_name);
   const DeviceInfo& device = state->device.info;
   const std::size_t uniform_bytes = impl->parsed.interface.uniform_bytes;
   if (uniform_bytes > device.constant_buffer_bytes) {
@@ -98,7 +100,7 @@ std::unique_ptr<Program::Impl> compile_program(const std::shared_ptr<ContextStat
                           " bytes; device " + device.name + " has " + std::to_string(device.constant_buffer_bytes) +
                           " of constant memory for them");
   }
-  const std::string text = program::generate_stage_program(impl->parsed, source, file_name);
+  const std::string text = program::generate_stage_program(impl->parsed, resolved, file_name);
   // The context's tile size, or, where the context chose it and the program's stages need more than
   // the device has at that size (local memory for the tile's attachments, work-items for its pixels),
   // the largest smaller one they fit.
@@ -133,16 +135,13 @@ Program::Program(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Program Program::load(Context& context, const std::string& path) { return Program(context, read_source(path), path); }
 
 std::string Program::read_source(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InvalidArgument("cannot open program file " + path + ": " + std::strerror(errno));
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw InvalidArgument("cannot read program file " + path);
-  return text.str();
+  runtime::FileContents file = runtime::read_regular_file(path, std::uintmax_t{CLR_MAX_PROGRAM_SOURCE_MIB} << 20);
+  if (!file) throw InvalidArgument("cannot read program file " + path + ": " + file.problem);
+  return std::move(file.bytes);
 }
 
 ProgramInterface Program::read_interface(const std::string& source, const std::string& file_name) {
-  return program::parse_program(source, file_name).interface;
+  return program::parse_program(program::resolve_includes(source, file_name), file_name).interface;
 }
 
 Program::~Program() = default;

@@ -10,10 +10,7 @@
 #include <system_error>
 
 namespace clraster::program {
-namespace {
 
-// The source with comments, string and character literals blanked out (newlines kept), so that
-// line numbers stay right and nothing inside a comment counts as a declaration.
 std::string code_only(const std::string& source) {
   std::string out = source;
   enum { Code, Line, Block, String, Char } state = Code;
@@ -45,6 +42,8 @@ std::string code_only(const std::string& source) {
   return out;
 }
 
+namespace {
+
 bool is_identifier(const std::string& name) {
   static const std::regex identifier("[A-Za-z_][A-Za-z0-9_]*");
   return std::regex_match(name, identifier);
@@ -71,7 +70,9 @@ std::string normalize_spaces(const std::string& text) {
 
 class Parser {
  public:
-  Parser(const std::string& source, std::string file_name) : code_(code_only(source)), file_(std::move(file_name)) {}
+  Parser(const std::string& source, std::string file_name) : code_(code_only(source)) {
+    find_line_directives(source, std::move(file_name));
+  }
 
   ParsedProgram parse() {
     scan_declarations();
@@ -92,7 +93,7 @@ class Parser {
     if (p.interface.has_fragment_span) {
       const Mention first = std::min({discard, depth_write, fetch, depth_test_, blend_});
       if (first.found()) {
-        fail(line_of(first.position), first.name + " needs a per-fragment program: a program with fragment_span "
+        fail(first.position, first.name + " needs a per-fragment program: a program with fragment_span "
                                                     "cannot use it (write void fragment(clr_fragment* f) instead)");
       }
     }
@@ -100,8 +101,10 @@ class Parser {
   }
 
  private:
-  [[noreturn]] void fail(int line, const std::string& message) const {
-    throw InvalidArgument(file_ + ":" + std::to_string(line) + ": " + message);
+  // The message, after the file and line of code_[at].
+  [[noreturn]] void fail(std::size_t at, const std::string& message) const {
+    const Section& section = section_of(at);
+    throw InvalidArgument(section.file + ":" + std::to_string(line_of(at)) + ": " + message);
   }
 
   // Where the code first mentions one of `names` as a word, and which.
@@ -119,8 +122,44 @@ class Parser {
     return {static_cast<std::size_t>(match.position()), match[1].str()};
   }
 
-  int line_of(std::size_t position) const {
-    return 1 + static_cast<int>(std::count(code_.begin(), code_.begin() + static_cast<std::ptrdiff_t>(position), '\n'));
+  // Where each #line directive (those of resolve_includes, or the user's own) starts a section of
+  // the source: offset, first line and file, as the compiler counts them.
+  struct Section {
+    std::size_t start = 0;
+    int first_line = 1;
+    std::string file;
+  };
+
+  void find_line_directives(const std::string& source, std::string file_name) {
+    sections_.push_back({0, 1, std::move(file_name)});
+    // Found in the code (not in comments), at the start of a line; the file's name is read from the
+    // source at the same place (the code has its characters blanked).
+    static const std::regex directive(R"([ \t]*#[ \t]*line[ \t]+([0-9]{1,9})[ \t]*("[^"\n]*")?[^\n]*\n)");
+    for (auto it = std::sregex_iterator(code_.begin(), code_.end(), directive); it != std::sregex_iterator(); ++it) {
+      const std::size_t at = static_cast<std::size_t>(it->position());
+      if (at != 0 && code_[at - 1] != '\n') continue;
+      Section section{at + static_cast<std::size_t>(it->length()), std::stoi((*it)[1].str()), sections_.back().file};
+      if ((*it)[2].matched) {
+        section.file.clear();
+        const std::string name = source.substr(static_cast<std::size_t>(it->position(2)) + 1,
+                                               static_cast<std::size_t>(it->length(2)) - 2);
+        for (std::size_t i = 0; i < name.size(); ++i) section.file += name[i] == '\\' && i + 1 < name.size() ? name[++i] : name[i];
+      }
+      sections_.push_back(std::move(section));
+    }
+  }
+
+  const Section& section_of(std::size_t at) const {
+    const auto after = std::upper_bound(sections_.begin(), sections_.end(), at,
+                                        [](std::size_t position, const Section& s) { return position < s.start; });
+    return *std::prev(after);
+  }
+
+  // The line of code_[at] in its file.
+  int line_of(std::size_t at) const {
+    const Section& section = section_of(at);
+    return section.first_line + static_cast<int>(std::count(code_.begin() + static_cast<std::ptrdiff_t>(section.start),
+                                                            code_.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
   }
 
   // Walks the code at brace depth 0 looking for declaration macros.
@@ -136,11 +175,10 @@ class Parser {
         if (code_[depth_checked] == '{') ++depth;
         if (code_[depth_checked] == '}') --depth;
       }
-      const int line = line_of(at);
-      if (depth != 0) fail(line, (*it)[1].str() + " must be declared at file scope, outside any function");
+      if (depth != 0) fail(at, (*it)[1].str() + " must be declared at file scope, outside any function");
       const std::size_t open = at + static_cast<std::size_t>(it->length());
       const std::size_t close = code_.find(')', open);
-      if (close == std::string::npos) fail(line, "unterminated " + (*it)[1].str() + "(");
+      if (close == std::string::npos) fail(at, "unterminated " + (*it)[1].str() + "(");
       std::vector<std::string> arguments;
       std::string current;
       for (std::size_t i = open; i < close; ++i) {
@@ -148,75 +186,75 @@ class Parser {
         else current += code_[i];
       }
       arguments.push_back(normalize_spaces(current));
-      declare((*it)[1].str(), arguments, line);
+      declare((*it)[1].str(), arguments, at);
     }
   }
 
   void expect_arguments(const std::string& kind, const std::vector<std::string>& arguments, std::size_t count,
-                        const char* form, int line) const {
-    if (arguments.size() != count) fail(line, kind + " takes " + form);
+                        const char* form, std::size_t at) const {
+    if (arguments.size() != count) fail(at, kind + " takes " + form);
   }
 
   void check_name(const std::string& kind, const std::string& name, const std::vector<ProgramVariable>& existing,
-                  int line) const {
-    if (!is_identifier(name)) fail(line, kind + " name '" + name + "' is not an identifier");
+                  std::size_t at) const {
+    if (!is_identifier(name)) fail(at, kind + " name '" + name + "' is not an identifier");
     for (const ProgramVariable& v : existing) {
-      if (v.name == name) fail(line, kind + " '" + name + "' is already declared on line " + std::to_string(v.line));
+      if (v.name == name) fail(at, kind + " '" + name + "' is already declared on line " + std::to_string(v.line));
     }
   }
 
-  void declare(const std::string& kind, const std::vector<std::string>& arguments, int line) {
+  void declare(const std::string& kind, const std::vector<std::string>& arguments, std::size_t at) {
     ProgramInterface& in = result_.interface;
     ProgramVariable v;
-    v.line = line;
+    v.line = line_of(at);
     if (kind == "clr_texture") {
-      expect_arguments(kind, arguments, 1, "one argument: (name)", line);
+      expect_arguments(kind, arguments, 1, "one argument: (name)", at);
       v.name = arguments[0];
       v.type = "texture";
-      check_name("texture", v.name, in.textures, line);
+      check_name("texture", v.name, in.textures, at);
       in.textures.push_back(v);
       return;
     }
-    expect_arguments(kind, arguments, 2, "two arguments: (type, name)", line);
+    expect_arguments(kind, arguments, 2, "two arguments: (type, name)", at);
     v.type = arguments[0];
     v.name = arguments[1];
     const VectorType vector = vector_type(v.type);
     if (kind == "clr_attribute") {
-      if (vector.components == 0) fail(line, "attribute type '" + v.type + "' is not a float, int or uint vector of 1 to 4 components");
-      check_name("attribute", v.name, in.attributes, line);
+      if (vector.components == 0) fail(at, "attribute type '" + v.type + "' is not a float, int or uint vector of 1 to 4 components");
+      check_name("attribute", v.name, in.attributes, at);
       in.attributes.push_back(v);
     } else if (kind.starts_with("clr_varying")) {
-      declare_varying(kind, v, vector);
+      declare_varying(kind, v, vector, at);
     } else if (kind == "clr_uniform") {
-      declare_uniform(v);
+      declare_uniform(v, at);
     } else if (kind == "clr_buffer") {
       std::string element = v.type;
       v.writable = !element.starts_with("const ");
       if (!v.writable) element = element.substr(6);
-      if (!is_identifier(element)) fail(line, "buffer element type '" + v.type + "' must be a type name, optionally after const");
-      check_name("buffer", v.name, in.buffers, line);
+      if (!is_identifier(element)) fail(at, "buffer element type '" + v.type + "' must be a type name, optionally after const");
+      check_name("buffer", v.name, in.buffers, at);
       in.buffers.push_back(v);
     } else {  // clr_output
       if (v.type != "float4" && v.type != "int4" && v.type != "uint4") {
-        fail(line, "output type '" + v.type + "' is not float4, int4 or uint4");
+        fail(at, "output type '" + v.type + "' is not float4, int4 or uint4");
       }
-      check_name("output", v.name, in.outputs, line);
+      check_name("output", v.name, in.outputs, at);
       if (in.outputs.size() == kMaxColorAttachments) {
-        fail(line, "more than " + std::to_string(kMaxColorAttachments) + " outputs (one per colour attachment)");
+        fail(at, "more than " + std::to_string(kMaxColorAttachments) + " outputs (one per colour attachment)");
       }
       in.outputs.push_back(v);
     }
   }
 
-  void declare_varying(const std::string& kind, ProgramVariable& v, const VectorType& vector) {
-    if (vector.components == 0) fail(v.line, "varying type '" + v.type + "' is not a float, int or uint vector of 1 to 4 components");
+  void declare_varying(const std::string& kind, ProgramVariable& v, const VectorType& vector, std::size_t at) {
+    if (vector.components == 0) fail(at, "varying type '" + v.type + "' is not a float, int or uint vector of 1 to 4 components");
     const Interpolation mode = kind == "clr_varying_flat"            ? Interpolation::Flat
                                : kind == "clr_varying_noperspective" ? Interpolation::NoPerspective
                                                                      : Interpolation::Smooth;
     if (vector.scalar != "float" && mode != Interpolation::Flat) {
-      fail(v.line, "integer varying '" + v.name + "' must be declared with clr_varying_flat (integers are not interpolated)");
+      fail(at, "integer varying '" + v.name + "' must be declared with clr_varying_flat (integers are not interpolated)");
     }
-    check_name("varying", v.name, result_.interface.varyings, v.line);
+    check_name("varying", v.name, result_.interface.varyings, at);
     v.interpolation = mode == Interpolation::Flat ? "flat" : mode == Interpolation::NoPerspective ? "noperspective" : "smooth";
     v.offset = result_.varying_floats.size();
     v.bytes = static_cast<std::size_t>(vector.components) * 4;
@@ -226,7 +264,7 @@ class Parser {
 
   // Lays the uniform out as the OpenCL C compiler lays out the generated struct: every type is
   // aligned to its size (three-component vectors take the room of four), arrays are runs of it.
-  void declare_uniform(ProgramVariable& v) {
+  void declare_uniform(ProgramVariable& v, std::size_t at) {
     static const std::regex array("([A-Za-z_][A-Za-z0-9_]*)\\s*\\[\\s*([0-9]+)\\s*\\]");
     std::smatch match;
     if (std::regex_match(v.name, match, array)) {
@@ -236,7 +274,7 @@ class Parser {
       unsigned long size = 0;
       const std::errc error = std::from_chars(digits.data(), digits.data() + digits.size(), size).ec;
       if (error != std::errc() || size < 1 || size > 65536) {
-        fail(v.line, "uniform array '" + v.name + "' needs 1 to 65536 elements");
+        fail(at, "uniform array '" + v.name + "' needs 1 to 65536 elements");
       }
       v.array_size = static_cast<int>(size);
     }
@@ -245,8 +283,8 @@ class Parser {
     if (vector.components != 0) size = 4u * (vector.components == 3 ? 4u : static_cast<unsigned>(vector.components));
     else if (v.type == "float8" || v.type == "int8" || v.type == "uint8") size = 32;
     else if (v.type == "float16" || v.type == "int16" || v.type == "uint16") size = 64;
-    else fail(v.line, "uniform type '" + v.type + "' is not a float, int or uint vector (1, 2, 3, 4, 8 or 16 components)");
-    check_name("uniform", v.name, result_.interface.uniforms, v.line);
+    else fail(at, "uniform type '" + v.type + "' is not a float, int or uint vector (1, 2, 3, 4, 8 or 16 components)");
+    check_name("uniform", v.name, result_.interface.uniforms, at);
     v.offset = (next_offset_ + size - 1) / size * size;
     v.bytes = size * static_cast<std::size_t>(std::max(v.array_size, 1));
     next_offset_ = v.offset + v.bytes;
@@ -273,16 +311,16 @@ class Parser {
     };
     const auto defines = [&](const char* pattern) { return definition(pattern, "").found(); };
     if (!defines("\\bvoid\\s+vertex\\s*\\([^)]*\\)\\s*\\{")) {
-      fail(1, "the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
+      fail(0, "the program defines no vertex program: void vertex(clr_vertex* v) { ... }");
     }
     const bool per_fragment = defines("\\bvoid\\s+fragment\\s*\\([^)]*\\)\\s*\\{");
     const bool per_span = defines("\\bvoid\\s+fragment_span\\s*\\([^)]*\\)\\s*\\{");
     if (!per_fragment && !per_span) {
-      fail(1, "the program defines no fragment program: void fragment(clr_fragment* f) { ... } (or void "
+      fail(0, "the program defines no fragment program: void fragment(clr_fragment* f) { ... } (or void "
               "fragment_span(clr_span_fragment* f) { ... })");
     }
     if (per_fragment && per_span) {
-      fail(1, "the program defines both void fragment(...) and void fragment_span(...): one fragment program, per "
+      fail(0, "the program defines both void fragment(...) and void fragment_span(...): one fragment program, per "
               "fragment or per span");
     }
     result_.interface.has_fragment_span = per_span;
@@ -293,7 +331,7 @@ class Parser {
   }
 
   std::string code_;
-  std::string file_;
+  std::vector<Section> sections_;  // in order of their start
   ParsedProgram result_;
   std::size_t alignment_ = 4;   // of the uniform struct
   std::size_t next_offset_ = 0;  // where the next uniform would start

@@ -24,9 +24,15 @@ struct ParsedProgram {
   bool reads_framebuffer = false;  // mentions clr_framebuffer_fetch (or its _int, _uint forms)
 };
 
-// Throws InvalidArgument with "file_name:LINE: ..." for a malformed or duplicate declaration, an
+// `source` may hold #line directives (resolve_includes puts the included files' text under them):
+// messages and ProgramVariable::line name the file and line they give.
+// Throws InvalidArgument with "FILE:LINE: ..." for a malformed or duplicate declaration, an
 // unsupported type, an integer varying that is not flat, or a missing vertex or fragment function.
 ParsedProgram parse_program(const std::string& source, const std::string& file_name);
+
+// The source with comments, string and character literals blanked out (newlines kept), so that
+// offsets and line numbers stay right and nothing inside a comment counts as code.
+std::string code_only(const std::string& source);
 
 // Components (1..4) and the scalar type ("float", "int", "uint") of a vector type name such as
 // "float3"; components 0 when the name is not one.

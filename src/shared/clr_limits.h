@@ -130,5 +130,12 @@
  * The on-disk cache of built programs (runtime/program_cache.cpp) keeps at most this many MiB; beyond it,
  * the entries used longest ago go first. A program's binary takes about 1 MiB. */
 #define CLR_PROGRAM_CACHE_MIB 512
+#define CLR_MAX_PROGRAM_BINARY_MIB 1024 /* a cache entry claiming a larger binary is damaged */
+
+/* ---- Program sources -----------------------------------------------------------------------------
+ * A user program's file and the files it includes (program/includes.cpp), together, at most this
+ * many MiB; includes nest at most CLR_MAX_INCLUDE_DEPTH deep (deeper is taken for a cycle). */
+#define CLR_MAX_PROGRAM_SOURCE_MIB 16
+#define CLR_MAX_INCLUDE_DEPTH 32
 
 #endif /* CLRASTER_LIMITS_H */
