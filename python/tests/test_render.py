@@ -55,3 +55,18 @@ def test_a_mesh_from_arrays_is_drawn_as_its_file(ctx, wuson):
     view, projection = camera()
     np.testing.assert_array_equal(ctx.render(mesh, view, projection, size=(WIDTH, HEIGHT)),
                                   ctx.render(loaded, view, projection, size=(WIDTH, HEIGHT)))
+
+
+def test_rendering_releases_the_gil(ctx, wuson):
+    import threading
+    mesh = clraster.load(wuson)
+    eyes = np.array([EYE] * 64, np.float32) * np.linspace(1, 2, 64, dtype=np.float32)[:, None]
+    views, projection = camera(eyes)
+    ctx.render(mesh, views[:1], projection, size=(WIDTH, HEIGHT))  # programs built and mesh uploaded first
+    worker = threading.Thread(target=ctx.render, args=(mesh, views, projection), kwargs=dict(size=(WIDTH, HEIGHT)))
+    steps = 0
+    worker.start()
+    while worker.is_alive():  # runs only while the render lets go of the GIL
+        steps += 1
+    worker.join()
+    assert steps > 1000, steps
