@@ -96,13 +96,15 @@ done
 run "kernels under Oclgrind (release build)" - device "$root/build" -L '^oclgrind$'
 
 # The Python package (python/): built into a virtual environment of Debian's Python with the pinned
-# packages of python/requirements.txt (build-python/ keeps its build between runs), then its pytest
+# packages of python/requirements.txt, built without pip's isolation so that build-python/ can keep
+# its build between runs (an isolated build's CMake cache names a temporary nanobind), then its pytest
 # suite on PoCL's device, whose pictures are compared with the command line built above.
 python_suite() {
   local venv=$root/build-python/venv
   [ -x "$venv/bin/python" ] || /usr/bin/python3 -m venv "$venv"
   "$venv/bin/pip" install --quiet --disable-pip-version-check -r "$root/python/requirements.txt" &&
-    "$venv/bin/pip" install --quiet --disable-pip-version-check --no-build-isolation "$root" &&
+    "$venv/bin/pip" install --quiet --disable-pip-version-check --no-build-isolation \
+      --config-settings=build-dir="$root/build-python/{wheel_tag}" "$root" &&
     (cd "$root" && CLRASTER_DEVICE=$pocl CLRASTER_CLI=$root/build/src/clraster \
        "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests)
 }
