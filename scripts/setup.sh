@@ -39,8 +39,9 @@ packages=(
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   # tests: GoogleTest, Oclgrind for the kernel checks, assimp's test models
   libgtest-dev oclgrind assimp-testmodels
-  # the virtual environment Intel's runtime is installed into
-  python3-venv
+  # the virtual environments Intel's runtime and the Python package are installed into, and the
+  # headers the package's extension module is compiled against
+  python3-venv python3-dev
 )
 
 missing=()

@@ -11,7 +11,8 @@
 #      shapes themselves; the rest (command line, bad input, examples, install) tests the host, and
 #      running it twice on both devices would take CI to an hour with cold compiler caches;
 #   3. every kernel under Oclgrind, which is a device of its own and checks races and bounds;
-#   4. the host code rebuilt with AddressSanitizer and UndefinedBehaviorSanitizer, running the unit
+#   4. the Python package built into a virtual environment and its pytest suite, on PoCL's device;
+#   5. the host code rebuilt with AddressSanitizer and UndefinedBehaviorSanitizer, running the unit
 #      and bad-input tests on PoCL's device.
 # Every run happens even when one before it failed; the summary names each run's device and suite,
 # and the script exits non-zero if any failed, or if PoCL or Intel's runtime is not among the devices.
@@ -93,6 +94,27 @@ done
 # Oclgrind is an OpenCL implementation of its own (tests/oclgrind_check.sh runs the program under
 # it, in both shapes), so its tests run apart, with no CLRASTER_DEVICE naming a device of this list.
 run "kernels under Oclgrind (release build)" - device "$root/build" -L '^oclgrind$'
+
+# The Python package (python/): built into a virtual environment of Debian's Python with the pinned
+# packages of python/requirements.txt, built without pip's isolation so that build-python/ can keep
+# its build between runs (an isolated build's CMake cache names a temporary nanobind), then its pytest
+# suite on PoCL's device, whose pictures are compared with the command line built above.
+python_suite() {
+  local venv=$root/build-python/venv
+  [ -x "$venv/bin/python" ] || /usr/bin/python3 -m venv "$venv"
+  "$venv/bin/pip" install --quiet --disable-pip-version-check -r "$root/python/requirements.txt" &&
+    "$venv/bin/pip" install --quiet --disable-pip-version-check --no-build-isolation \
+      --config-settings=build-dir="$root/build-python/{wheel_tag}" "$root" &&
+    (cd "$root" && CLRASTER_DEVICE=$pocl CLRASTER_CLI=$root/build/src/clraster \
+       "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests)
+}
+echo
+echo "==== test: Python package (pytest) on $(describe "$pocl") ===="
+SECONDS=0
+if python_suite; then line="passed"; else line="FAILED"; failed=1; fi
+line="$line  Python package (pytest) on $(describe "$pocl"), ${SECONDS}s"
+echo "==== test: $line ===="
+results+=("$line")
 
 "$root/scripts/build.sh" "$root/build-sanitize" "${suite[@]}" -DCLRASTER_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
 run "unit and bad-input tests (ASan+UBSan build)" "$pocl" device "$root/build-sanitize"

@@ -595,8 +595,8 @@ struct PositionKeyHash {
   }
 };
 
-// Sets every vertex normal of `meshes` to the normalized sum of the area-weighted normals of the
-// triangles, across all of them, that have a corner at the vertex's position.
+}  // namespace
+
 void smooth_normals(std::span<Mesh* const> meshes) {
   std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> slot_of_position;
   std::vector<std::vector<std::uint32_t>> slot_of_vertex(meshes.size());
@@ -630,6 +630,8 @@ void smooth_normals(std::span<Mesh* const> meshes) {
     }
   }
 }
+
+namespace {
 
 // Reads the file with assimp, refusing what assimp cannot read and what it read only by repairing
 // faces with indices of vertices that do not exist. The scene belongs to `importer`.

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,11 @@ struct Model : Mesh {
 // "3 triangles dropped: a corner's position, normal or texture coordinate is NaN or infinite": what
 // Model::triangles_dropped counts, for warnings.
 std::string describe_triangles_dropped(std::uint64_t count);
+
+// Sets every vertex normal of `meshes` to the normalized sum of the area-weighted normals of the
+// triangles, across all of them, that have a corner at the vertex's position (what load_model
+// gives files without normals, but glTF's).
+void smooth_normals(std::span<Mesh* const> meshes);
 
 // Loads the triangles of a model file in any format assimp reads (OBJ, glTF 2.0 .gltf/.glb, PLY,
 // STL, OFF, ...) into one triangle list in the file's object space:

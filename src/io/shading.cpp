@@ -3,9 +3,15 @@
 namespace clraster::io {
 
 DrawState shading_state(BuiltinShading shading, const Camera& camera, float aspect) {
+  return shading_state(shading, to_mat4(view_matrix(camera)), to_mat4(projection_matrix(camera, aspect)),
+                       {camera.near_plane, camera.far_plane});
+}
+
+DrawState shading_state(BuiltinShading shading, const Mat4& model_view, const Mat4& projection,
+                        std::array<float, 2> depth_range) {
   DrawState state;
-  state.model_view = to_mat4(view_matrix(camera));
-  state.projection = to_mat4(projection_matrix(camera, aspect));
+  state.model_view = model_view;
+  state.projection = projection;
   switch (shading) {
     case BuiltinShading::Normal: state.shading = Shading::Normal; break;
     case BuiltinShading::Lambert:
@@ -14,7 +20,7 @@ DrawState shading_state(BuiltinShading shading, const Camera& camera, float aspe
       break;
     case BuiltinShading::Depth:
       state.shading = Shading::Depth;
-      state.depth_shading_range = {camera.near_plane, camera.far_plane};
+      state.depth_shading_range = depth_range;
       break;
     case BuiltinShading::Overdraw:
       // Every fragment adds 1/255: the red channel counts the fragments of each pixel.

@@ -19,4 +19,9 @@ enum class BuiltinShading {
 // Overdraw's blending and depth test.
 DrawState shading_state(BuiltinShading shading, const Camera& camera, float aspect);
 
+// The same from the matrices themselves (column-major) and the view distances Depth draws white
+// and black, for front ends that take matrices rather than a camera (the Python package).
+DrawState shading_state(BuiltinShading shading, const Mat4& model_view, const Mat4& projection,
+                        std::array<float, 2> depth_range);
+
 }  // namespace clraster::io

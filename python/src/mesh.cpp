@@ -1,0 +1,104 @@
+#include "mesh.hpp"
+
+#include <atomic>
+#include <cmath>
+
+#include "clraster/clraster.hpp"
+
+namespace clraster::python {
+namespace {
+
+std::uint64_t next_id() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
+}
+
+bool finite_at(const std::vector<float>& values, std::size_t components, std::uint32_t vertex) {
+  for (std::size_t k = 0; k < components; ++k) {
+    if (!std::isfinite(values[components * vertex + k])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vector<std::uint32_t> indices,
+                                          std::optional<std::vector<float>> normals,
+                                          std::optional<std::vector<float>> uvs) {
+  if (positions.size() % 3 != 0 || indices.size() % 3 != 0) {
+    throw InvalidArgument("a mesh takes three floats per position and three indices per triangle");
+  }
+  const std::size_t vertex_count = positions.size() / 3;
+  if (normals && normals->size() != positions.size()) {
+    throw InvalidArgument("normals: " + std::to_string(normals->size() / 3) + " given for " +
+                          std::to_string(vertex_count) + " vertices");
+  }
+  if (uvs && uvs->size() != 2 * vertex_count) {
+    throw InvalidArgument("uvs: " + std::to_string(uvs->size() / 2) + " given for " + std::to_string(vertex_count) +
+                          " vertices");
+  }
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (indices[i] >= vertex_count) {
+      throw InvalidArgument("indices: triangle " + std::to_string(i / 3) + " has index " + std::to_string(indices[i]) +
+                            ", out of range for " + std::to_string(vertex_count) + " vertices");
+    }
+  }
+
+  auto data = std::make_shared<MeshData>();
+  io::Mesh& mesh = data->mesh;
+  mesh.positions = std::move(positions);
+  mesh.indices = std::move(indices);
+  if (uvs) mesh.texcoords = std::move(*uvs);
+  data->id = next_id();
+
+  const auto finite_vertex = [&](std::uint32_t v) {
+    return finite_at(mesh.positions, 3, v) && (!normals || finite_at(*normals, 3, v)) &&
+           (mesh.texcoords.empty() || finite_at(mesh.texcoords, 2, v));
+  };
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const std::uint32_t* corners = &mesh.indices[3 * t];
+    if (finite_vertex(corners[0]) && finite_vertex(corners[1]) && finite_vertex(corners[2])) {
+      data->drawn_indices.insert(data->drawn_indices.end(), corners, corners + 3);
+      data->drawn_triangles.push_back(static_cast<std::int32_t>(t));
+    } else {
+      ++data->triangles_dropped;
+    }
+  }
+  // As the command line refuses a model left without triangles: there is nothing to draw.
+  if (data->drawn_triangles.empty()) {
+    throw InvalidArgument(data->triangles_dropped == 0
+                              ? std::string("a mesh needs at least one triangle")
+                              : "no triangles left: " + io::describe_triangles_dropped(data->triangles_dropped));
+  }
+  if (data->triangles_dropped == 0) {  // drawn as given: no copy of the indices, no renumbering
+    data->drawn_indices.clear();
+    data->drawn_triangles.clear();
+  }
+
+  if (normals) {
+    mesh.normals = std::move(*normals);
+  } else {
+    // Smoothed over the drawn triangles only, as the loader smooths what it keeps.
+    io::Mesh drawn;
+    drawn.positions = mesh.positions;
+    drawn.indices.assign(data->indices_drawn().begin(), data->indices_drawn().end());
+    drawn.normals.resize(drawn.positions.size());
+    io::Mesh* meshes[] = {&drawn};
+    io::smooth_normals(meshes);
+    mesh.normals = std::move(drawn.normals);
+  }
+  return data;
+}
+
+std::shared_ptr<const MeshData> load_mesh(const std::string& path, std::vector<std::string>& warnings) {
+  io::Model model = io::load_model(path, warnings);
+  if (model.triangles_dropped > 0) warnings.push_back(path + ": " + io::describe_triangles_dropped(model.triangles_dropped));
+  warnings.insert(warnings.end(), model.material_warnings.begin(), model.material_warnings.end());
+  auto data = std::make_shared<MeshData>();
+  data->materials = std::move(model.materials);
+  data->mesh = std::move(static_cast<io::Mesh&>(model));
+  data->id = next_id();
+  return data;
+}
+
+}  // namespace clraster::python

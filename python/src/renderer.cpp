@@ -1,0 +1,232 @@
+#include "renderer.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "pipeline/draw_state.hpp"
+#include "shared/clr_limits.h"
+
+namespace clraster::python {
+
+extern const char* const kVisibilityProgram;  // visibility.cl, embedded by CMake
+
+namespace {
+
+// What the attachments of one batch's framebuffer may take: batches larger than this are drawn in
+// chunks of layers, so that memory does not grow with the batch.
+constexpr std::size_t kAttachmentBudget = std::size_t{256} << 20;
+
+// The library's layout of a layered framebuffer (Framebuffer(context, width, height, layers)):
+// the smallest square grid, layer l at column l % columns of row l / columns.
+struct LayerGrid {
+  int columns = 1;
+  int rows = 1;
+
+  explicit LayerGrid(int layers) {
+    while (columns * columns < layers) ++columns;
+    rows = (layers + columns - 1) / columns;
+  }
+  Rect layer_rect(int layer, int width, int height) const {
+    return {layer % columns * width, layer / columns * height, width, height};
+  }
+};
+
+// How many of the pictures one framebuffer takes: all of them, within the library's layer limit,
+// the largest attachment side, kAttachmentBudget for all attachments (pixel_bytes a pixel) and the
+// device's largest buffer for the largest one (texel_bytes a pixel).
+int layers_per_pass(const Pictures& pictures, std::size_t pixel_bytes, std::size_t texel_bytes,
+                    std::size_t buffer_bytes) {
+  int layers = static_cast<int>(std::min<std::size_t>(pictures.count, CLR_MAX_LAYERS));
+  for (; layers > 1; --layers) {
+    const LayerGrid grid(layers);
+    const std::int64_t width = std::int64_t{pictures.width} * grid.columns;
+    const std::int64_t height = std::int64_t{pictures.height} * grid.rows;
+    const auto pixels = static_cast<std::size_t>(width * height);
+    if (width <= kMaxFramebufferSize && height <= kMaxFramebufferSize && pixels * pixel_bytes <= kAttachmentBudget &&
+        pixels * texel_bytes <= buffer_bytes) {
+      break;
+    }
+  }
+  return layers;
+}
+
+// Copies each layer of a grid of them (rows from the bottom, as textures hold them) into
+// consecutive pictures whose rows run from the top.
+void copy_layers(const std::vector<std::byte>& grid, int layers, const Pictures& pictures, std::size_t pixel_bytes,
+                 void* first_picture) {
+  const LayerGrid layout(layers);
+  const std::size_t row_bytes = std::size_t(pictures.width) * pixel_bytes;
+  const std::size_t grid_row_bytes = row_bytes * std::size_t(layout.columns);
+  auto* out = static_cast<std::byte*>(first_picture);
+  for (int layer = 0; layer < layers; ++layer) {
+    const Rect rect = layout.layer_rect(layer, pictures.width, pictures.height);
+    for (int y = 0; y < pictures.height; ++y) {
+      const std::byte* source = grid.data() + std::size_t(rect.y + y) * grid_row_bytes + std::size_t(rect.x) * pixel_bytes;
+      std::byte* target = out + (std::size_t(layer) * std::size_t(pictures.height) + std::size_t(pictures.height - 1 - y)) * row_bytes;
+      std::memcpy(target, source, row_bytes);
+    }
+  }
+}
+
+ContextOptions context_options(int device, std::size_t memory_cap) {
+  ContextOptions options;
+  options.device = device;
+  options.memory_cap = memory_cap;
+  return options;
+}
+
+}  // namespace
+
+struct Renderer::MeshBuffers {
+  std::weak_ptr<const MeshData> mesh;
+  VertexBuffer vertices;
+  IndexBuffer indices;
+  // For the visibility buffer, made by the first rasterize: the positions as an attribute and for
+  // the fragment program, which reads a triangle's corners (with the indices) to weigh them.
+  std::optional<Buffer> positions;
+  std::optional<Buffer> corners;
+};
+
+struct Renderer::VisibilityTarget {
+  static constexpr std::size_t kPixelBytes = 4 + 8 + 4;  // triangle (R32I), barycentrics (RG32F), depth
+  static constexpr std::size_t kLargestTexelBytes = 8;
+
+  int width;
+  int height;
+  int layers;
+  Texture triangles;
+  Texture barycentrics;
+  Texture depths;
+  Framebuffer framebuffer;
+
+  VisibilityTarget(Context& context, int width, int height, int layers)
+      : width(width),
+        height(height),
+        layers(layers),
+        triangles(context, width * LayerGrid(layers).columns, height * LayerGrid(layers).rows, Format::R32I),
+        barycentrics(context, triangles.width(), triangles.height(), Format::RG32F),
+        depths(context, triangles.width(), triangles.height(), Format::Depth32F),
+        framebuffer(context, {&triangles, &barycentrics}, &depths) {}
+};
+
+Renderer::Renderer(int device, std::size_t memory_cap) : context_(context_options(device, memory_cap)) {}
+Renderer::~Renderer() = default;
+
+Renderer::MeshBuffers& Renderer::buffers(const std::shared_ptr<const MeshData>& mesh) {
+  std::erase_if(uploads_, [](const auto& entry) { return entry.second->mesh.expired(); });
+  std::unique_ptr<MeshBuffers>& entry = uploads_[mesh->id];
+  if (!entry) {
+    entry.reset(new MeshBuffers{mesh, VertexBuffer(context_, mesh->mesh.positions, mesh->mesh.normals),
+                                IndexBuffer(context_, mesh->indices_drawn()), std::nullopt, std::nullopt});
+  }
+  return *entry;
+}
+
+Framebuffer& Renderer::picture_target(int width, int height, int layers) {
+  if (!picture_target_ || picture_target_->width() != width || picture_target_->height() != height ||
+      picture_target_->layers() != layers) {
+    picture_target_.reset();  // its memory free before the next one takes its own
+    picture_target_.emplace(context_, width, height, layers);
+  }
+  return *picture_target_;
+}
+
+Renderer::VisibilityTarget& Renderer::visibility_target(int width, int height, int layers) {
+  if (!visibility_target_ || visibility_target_->width != width || visibility_target_->height != height ||
+      visibility_target_->layers != layers) {
+    visibility_target_.reset();
+    visibility_target_ = std::make_unique<VisibilityTarget>(context_, width, height, layers);
+  }
+  return *visibility_target_;
+}
+
+const Program& Renderer::visibility_program() {
+  if (!visibility_program_) visibility_program_.emplace(context_, kVisibilityProgram, "<clraster visibility>");
+  return *visibility_program_;
+}
+
+std::uint64_t Renderer::render(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
+                               const Mat4& projection, io::BuiltinShading shading, std::array<float, 2> depth_range,
+                               const Pictures& pictures, std::uint8_t* rgba) {
+  const std::lock_guard lock(mutex_);
+  MeshBuffers& meshes = buffers(mesh);
+  const std::size_t picture_bytes = std::size_t(pictures.width) * std::size_t(pictures.height) * 4;
+  // RGBA8 colour and a depth-stencil attachment of 5 bytes a pixel.
+  const int chunk = layers_per_pass(pictures, 4 + 5, 5, context_.device().buffer_bytes);
+  std::uint64_t dropped = 0;
+  for (std::size_t first = 0; first < views.size(); first += std::size_t(chunk)) {
+    const int layers = static_cast<int>(std::min<std::size_t>(std::size_t(chunk), views.size() - first));
+    Framebuffer& framebuffer = picture_target(pictures.width, pictures.height, layers);
+    framebuffer.clear({0, 0, 0, 1}, 1.0f);  // the command line's background
+    DrawCall call{&meshes.vertices, &meshes.indices};
+    call.state = io::shading_state(shading, views[first], projection, depth_range);
+    for (int k = 0; k < layers; ++k) call.views.push_back({views[first + std::size_t(k)], projection, nullptr});
+    dropped += framebuffer.draw(call).triangles_dropped;
+    copy_layers(framebuffer.color(0).read(), layers, pictures, 4, rgba + first * picture_bytes);
+  }
+  return dropped;
+}
+
+std::uint64_t Renderer::rasterize(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
+                                  const Mat4& projection, const Pictures& pictures, std::int32_t* triangles,
+                                  float* barycentrics, float* depths) {
+  const std::lock_guard lock(mutex_);
+  MeshBuffers& meshes = buffers(mesh);
+  if (!meshes.positions) {
+    meshes.positions.emplace(context_, mesh->mesh.positions);
+    const std::span<const std::uint32_t> corners = mesh->indices_drawn();
+    meshes.corners.emplace(context_, corners);
+  }
+  const Program& program = visibility_program();
+  const std::size_t pixels = std::size_t(pictures.width) * std::size_t(pictures.height);
+  const int chunk = layers_per_pass(pictures, VisibilityTarget::kPixelBytes, VisibilityTarget::kLargestTexelBytes,
+                                    context_.device().buffer_bytes);
+  std::uint64_t dropped = 0;
+  for (std::size_t first = 0; first < views.size(); first += std::size_t(chunk)) {
+    const int layers = static_cast<int>(std::min<std::size_t>(std::size_t(chunk), views.size() - first));
+    VisibilityTarget& target = visibility_target(pictures.width, pictures.height, layers);
+    target.framebuffer.clear_color_int(0, {-1, -1, -1, -1});
+    target.framebuffer.clear_color(1, {0, 0, 0, 0});
+    target.framebuffer.clear_depth(1.0f);
+
+    // A draw per view, each in its layer's viewport and scissor, drawn as one frame: one pass over
+    // the tiles, as the views of a layered framebuffer (whose attachments are RGBA8 only).
+    const LayerGrid grid(layers);
+    std::vector<Bindings> bindings;
+    bindings.reserve(std::size_t(layers));  // the calls point into it
+    std::vector<DrawCall> calls(static_cast<std::size_t>(layers));
+    for (int k = 0; k < layers; ++k) {
+      const Rect rect = grid.layer_rect(k, pictures.width, pictures.height);
+      DrawState camera;  // the built-in programs' product, so that the visibility buffer covers what render draws
+      camera.model_view = views[first + std::size_t(k)];
+      camera.projection = projection;
+      bindings.emplace_back(program)
+          .set("mvp", pipeline::model_view_projection(camera))
+          .set("viewport", std::array<float, 4>{float(rect.x), float(rect.y), 2.0f / float(pictures.width),
+                                                2.0f / float(pictures.height)})
+          .set_buffer("positions", *meshes.positions)
+          .set_buffer("corners", *meshes.corners);
+      DrawCall& call = calls[std::size_t(k)];
+      call.program = &program;
+      call.bindings = &bindings.back();
+      call.attributes = {{"position", &*meshes.positions, AttributeType::Float3}};
+      call.indices = &meshes.indices;
+      call.state.viewport = rect;
+      call.state.scissor_test = true;
+      call.state.scissor = rect;
+    }
+    dropped += target.framebuffer.draw(calls).triangles_dropped;
+
+    copy_layers(target.triangles.read(), layers, pictures, 4, triangles + first * pixels);
+    copy_layers(target.barycentrics.read(), layers, pictures, 8, barycentrics + first * pixels * 2);
+    copy_layers(target.depths.read(), layers, pictures, 4, depths + first * pixels);
+  }
+  if (!mesh->drawn_triangles.empty()) {  // drawn triangle -> the mesh's, past those left out
+    for (std::int32_t* id = triangles; id != triangles + views.size() * pixels; ++id) {
+      if (*id >= 0) *id = mesh->drawn_triangles[std::size_t(*id)];
+    }
+  }
+  return dropped;
+}
+
+}  // namespace clraster::python
