@@ -47,7 +47,7 @@ void print_table_head(std::ostream& out, const RunOptions& options) {
       << (options.frames == 1 ? " frame" : " frames") << " after " << kWarmupFrames
       << " warm-up frames, clraster and llvmpipe in turn\n\n"
       << format("%-13s %10s %5s %-10s %9s %9s %6s  %-39s %8s %7s\n", "", "", "", "", "clraster", "llvmpipe", "",
-                "clraster stages, device ms", "first", "peak")
+                "clraster stages, device ms", "first", "pipeline")
       << format("%-13s %10s %5s %-10s %9s %9s %6s  %7s %7s %7s %7s %7s  %8s %7s\n", "scene", "triangles", "draws",
                 "size", "ms", "ms", "ratio", "vertex", "setup", "binning", "raster", "other", "frame ms", "MiB");
 }
@@ -65,7 +65,7 @@ std::ostream& print_table_row(std::ostream& out, const SceneResult& result) {
   const StageTimes& stage = result.stage_ms;
   out << format("%9.2f %9.2f %6.2f  %7.2f %7.2f %7.2f %7.2f %7.2f  %8.1f %7.1f\n", result.clraster_ms, result.gl_ms,
                 result.ratio(), stage.vertex_ms, stage.setup_ms, stage.binning_ms, stage.raster_ms, stage.other_ms,
-                result.first_frame_ms, mebibytes(result.peak_memory_bytes));
+                result.first_frame_ms, mebibytes(result.pipeline_memory_bytes));
   return out;
 }
 
@@ -118,7 +118,7 @@ std::string to_json(const RunOptions& options, const std::vector<SceneResult>& r
                         {"raster", stage.raster_ms},
                         {"other", stage.other_ms}}},
                       {"first_frame_ms", result.first_frame_ms},
-                      {"peak_memory_bytes", result.peak_memory_bytes},
+                      {"pipeline_memory_bytes", result.pipeline_memory_bytes},
                       {"clraster_frame_ms", result.clraster_frame_ms},
                       {"llvmpipe_frame_ms", result.gl_frame_ms},
                       {"coverage_mismatch", comparison.coverage_mismatch},

@@ -231,7 +231,7 @@ SceneRun run_scene(const Scene& scene, const RunOptions& options) {
       const DrawStats stats = ours.frame();
       result.clraster_frame_ms.push_back(milliseconds_since(start));
       stages.push_back(stats.stage_times);
-      result.peak_memory_bytes = stats.peak_memory_bytes;
+      result.pipeline_memory_bytes = stats.peak_memory_bytes;
 
       start = Clock::now();
       theirs.frame();

@@ -63,7 +63,7 @@ struct SceneResult {
   // cache, which the timed context filled if it was empty) to the end of its first frame, uploads
   // included.
   double first_frame_ms = 0;
-  std::uint64_t peak_memory_bytes = 0;  // the pipeline's intermediate buffers
+  std::uint64_t pipeline_memory_bytes = 0;  // the pipeline's intermediate buffers at their peak
   io::ImageComparison comparison;       // clraster's last timed frame against llvmpipe's
   bool passed = false;                  // comparison is within kTolerance
 

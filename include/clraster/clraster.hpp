@@ -301,6 +301,8 @@ class Texture {
   int height(int level = 0) const;
   int levels() const;
   Format format() const;
+  // The device memory the texture holds: every level (and a stencil plane).
+  std::size_t memory_bytes() const;
 
   // Replaces a level's texels (tightly packed, rows from t = 0).
   void upload(int level, std::span<const std::byte> texels);
@@ -607,7 +609,9 @@ struct DrawStats {
   std::uint64_t triangles_dropped = 0;    // of those, dropped for non-finite clip coordinates
   std::uint64_t chunks = 0;               // passes of draws through the stages, and chunks of draws too large for one
   std::uint64_t tile_triangle_pairs = 0;  // (tile, triangle) bin entries rasterized
-  std::uint64_t peak_memory_bytes = 0;    // largest total of intermediate buffers held, so far, by the context
+  // Largest total of the pipeline's intermediate buffers held, so far, by the context: what
+  // ContextOptions::memory_cap bounds. Framebuffers, textures and vertex buffers are besides.
+  std::uint64_t peak_memory_bytes = 0;
   StageTimes stage_times;
 };
 

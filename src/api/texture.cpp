@@ -309,6 +309,8 @@ void Texture::generate_mipmaps() {
   });
 }
 
+std::size_t Texture::memory_bytes() const { return impl_->data.getInfo<CL_MEM_SIZE>(); }
+
 std::vector<std::byte> Texture::read(int level) const {
   check_level(*impl_, level);
   std::vector<std::byte> texels(impl_->level_bytes(level));

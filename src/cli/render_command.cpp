@@ -15,6 +15,7 @@
 #include <iostream>
 #include <memory>
 #include <regex>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -38,6 +39,15 @@ FrameTimes time_frames(int frames, const std::function<void()>& frame) {
   times.first_ms = run();
   for (int i = 0; i < frames; ++i) times.timed_ms.push_back(run());
   return times;
+}
+
+// The most memory the process has held at once, resident: the model, the framebuffers and the
+// pipeline's buffers (device memory is host memory on CPU devices; on a GPU they are not in it), the
+// picture read back and its PNG encoding: everything but what the kernel swapped out.
+std::uint64_t peak_resident_bytes() {
+  struct rusage usage {};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux counts kilobytes
 }
 
 // Whether the model is drawn by a program following the command line's contract (part by part,
@@ -176,7 +186,8 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
                      {"triangles_dropped", model.triangles_dropped + frame_stats.triangles_dropped},
                      {"chunks", frame_stats.chunks},
                      {"tile_triangle_pairs", frame_stats.tile_triangle_pairs},
-                     {"peak_memory_bytes", frame_stats.peak_memory_bytes},
+                     {"pipeline_memory_bytes", frame_stats.peak_memory_bytes},
+                     {"framebuffer_bytes", framebuffer.color().memory_bytes() + framebuffer.depth_stencil()->memory_bytes()},
                      {"stage_ms",
                       {{"vertex", stage.vertex_ms},
                        {"setup", stage.setup_ms},
@@ -210,7 +221,8 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
                      {"triangles_dropped", nullptr},
                      {"chunks", nullptr},
                      {"tile_triangle_pairs", nullptr},
-                     {"peak_memory_bytes", nullptr},
+                     {"pipeline_memory_bytes", nullptr},
+                     {"framebuffer_bytes", nullptr},
                      {"stage_ms", nullptr}};
   return rendering;
 }
@@ -291,6 +303,7 @@ int render(const RenderOptions& options) {
     stats["width"] = options.width;
     stats["height"] = options.height;
     stats["frames"] = options.frames;
+    stats["peak_memory_bytes"] = peak_resident_bytes();
     std::cout << stats.dump() << std::endl;
   }
   return 0;
