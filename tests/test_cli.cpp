@@ -479,6 +479,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadOption{"DeviceNegative", {"--device", "-1"}, "--device: Value -1 not in range 0 to 1048576"},
         BadOption{"FovNotFinite", {"--fov", "nan"}, "camera: fov_degrees must be finite, got nan"},
         BadOption{"FarNotFinite", {"--far", "inf"}, "camera: far_plane must be finite, got inf"},
+        BadOption{"TimeLimitNegative", {"--time-limit", "-1"}, "--time-limit: expected seconds in (0, 1000000], got -1"},
+        BadOption{"TimeLimitNotFinite", {"--time-limit", "nan"}, "--time-limit: expected seconds in (0, 1000000], got nan"},
         BadOption{"DeviceThatDoesNotExist", {"--device", "1000"}, "no OpenCL device 1000: this machine has ", 1}),
     [](const auto& info) { return std::string(info.param.name); });
 
@@ -531,6 +533,31 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(CliBadInput, ProgramFileThatDoesNotExist) {
   expect_render_rejected({triangle_file().string(), "--program", "/nonexistent/lit.cl"}, "/nonexistent/lit.cl");
+}
+
+// The frames of a program that never ends are stopped at --time-limit (counted from when the
+// programs are built); the earlier picture stays.
+TEST(CliBadInput, ProgramThatLoopsForEverIsStoppedAtTheTimeLimit) {
+  const fs::path program = write_scratch_file(
+      "endless.cl", "clr_attribute(float3, position)\nclr_uniform(float16, mvp)\nclr_output(float4, color)\n"
+                    "void vertex(clr_vertex* v) { v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f)); }\n"
+                    "void fragment(clr_fragment* f) {\n"
+                    "  float x = 0.0f;\n"
+                    "  while (x >= 0.0f) x += 1.0f;  // x reaches infinity and stays there\n"
+                    "  f->out.color = (float4)(x);\n"
+                    "}\n");
+  const CliResult result = expect_render_rejected(
+      {triangle_file().string(), "--program", program.string(), "--size", "16x16", "--time-limit", "0.5"},
+      "the frames took longer than --time-limit 0.5 s and were stopped (does a program loop for ever?)");
+  EXPECT_EQ(result.exit_code, 1) << result;
+}
+
+TEST(CliRender, TimeLimitThatIsNotReachedChangesNothing) {
+  const Image unlimited = render("unlimited.png", {triangle_file().string(), "--size", "32x32"}).picture;
+  const Image limited =
+      render("limited.png", {triangle_file().string(), "--size", "32x32", "--time-limit", "120"}).picture;
+  EXPECT_GT(covered_pixel_count(limited), 0u);
+  EXPECT_EQ(limited.rgba, unlimited.rgba);
 }
 
 TEST(CliBadInput, ProgramThatDoesNotCompileShowsTheCompilersFileLineAndColumn) {

@@ -3,6 +3,7 @@
 
 #include "io/camera.hpp"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -49,6 +50,8 @@ struct RenderOptions {
   Backend backend = Backend::Clraster;
   std::size_t memory_cap = kDefaultMemoryCap;
   int tile_size = kDeviceTileSize;
+  double time_limit_seconds = 0;  // for the frames, once programs are built (cli/time_limit.hpp); 0: none
+  std::function<void()> frames_starting;  // told when the first frame begins, if set
 };
 
 struct CompareOptions {

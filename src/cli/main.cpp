@@ -3,6 +3,8 @@
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
 #include "cli/commands.hpp"
+#include "cli/time_limit.hpp"
+#include "io/format.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -126,6 +128,26 @@ std::string printable(std::string_view text) {
   return out;
 }
 
+// The exit code of `command`, or of the exception it throws, which is printed.
+int exit_code_of(const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const UsageError& error) {
+    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
+    return 2;
+  } catch (const BuildError& error) {
+    // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form
+    // (docs/programs.md): printed as they are, under the first line. Other builds (the pipeline's
+    // own kernels) say only which program failed: the compiler's log follows.
+    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
+    if (std::string_view(error.what()).find('\n') == std::string_view::npos) std::cerr << printable(error.log()) << '\n';
+    return 1;
+  } catch (const std::exception& error) {
+    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
+    return 1;
+  }
+}
+
 }  // namespace clraster::cli
 
 int main(int argc, char** argv) {
@@ -181,6 +203,10 @@ int main(int argc, char** argv) {
                                           CLI::ignore_case))
       ->option_text("clraster|gl (default: clraster)");
   add_context_options(render, render_options.device, memory_cap_mib, render_options.tile_size);
+  render->add_option("--time-limit", render_options.time_limit_seconds,
+                     "Stop the render when its frames (after programs are built) take longer than this many seconds: "
+                     "a program that loops for ever ends in an error (default: no limit)")
+      ->option_text("SECONDS");
 
   CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand("compare", "Print, as JSON, how far two pictures differ");
@@ -241,7 +267,8 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  try {
+  // What each command returns; the render with a time limit in a process of its own.
+  const auto command = [&]() -> int {
     if (*render) {
       parse_size(size, render_options.width, render_options.height);
       const auto vector_option = [](const std::string& text, const char* name) {
@@ -266,19 +293,18 @@ int main(int argc, char** argv) {
       return cli::bench(bench_options);
     }
     if (*devices) return cli::devices();
-  } catch (const UsageError& error) {
-    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
-    return 2;
-  } catch (const BuildError& error) {
-    // A program's what() holds the compiler's errors already, in FILE:LINE:COLUMN form
-    // (docs/programs.md): printed as they are, under the first line. Other builds (the pipeline's
-    // own kernels) say only which program failed: the compiler's log follows.
-    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
-    if (std::string_view(error.what()).find('\n') == std::string_view::npos) std::cerr << printable(error.log()) << '\n';
-    return 1;
-  } catch (const std::exception& error) {
-    std::cerr << "clraster: error: " << printable(error.what()) << '\n';
-    return 1;
-  }
-  return 0;
+    return 0;
+  };
+  return exit_code_of([&] {
+    if (!*render || render_options.time_limit_seconds == 0) return command();
+    if (!(render_options.time_limit_seconds > 0 && render_options.time_limit_seconds <= 1e6)) {
+      throw UsageError("--time-limit: expected seconds in (0, 1000000], got " +
+                       io::format_number(render_options.time_limit_seconds));
+    }
+    return run_with_time_limit(render_options.time_limit_seconds, [&](const std::function<void()>& start_clock) {
+      render_options.frames_starting = start_clock;
+      return exit_code_of(command);
+    });
+  });
 }
+

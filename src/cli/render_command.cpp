@@ -28,8 +28,9 @@ struct FrameTimes {
   std::vector<double> timed_ms;
 };
 
-// One warm-up frame (program builds included), then `frames` timed ones.
-FrameTimes time_frames(int frames, const std::function<void()>& frame) {
+// One warm-up frame (program builds included), then options.frames timed ones.
+FrameTimes time_frames(const RenderOptions& options, const std::function<void()>& frame) {
+  if (options.frames_starting) options.frames_starting();
   const auto run = [&] {
     const auto start = std::chrono::steady_clock::now();
     frame();
@@ -37,7 +38,7 @@ FrameTimes time_frames(int frames, const std::function<void()>& frame) {
   };
   FrameTimes times;
   times.first_ms = run();
-  for (int i = 0; i < frames; ++i) times.timed_ms.push_back(run());
+  for (int i = 0; i < options.frames; ++i) times.timed_ms.push_back(run());
   return times;
 }
 
@@ -172,7 +173,7 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
 
   Rendering rendering;
   DrawStats frame_stats;
-  rendering.times = time_frames(options.frames, [&] {
+  rendering.times = time_frames(options, [&] {
     framebuffer.clear({0, 0, 0, 1}, 1.0f);
     frame_stats = framebuffer.draw(calls);  // one frame: the parts rasterized together
     context.finish();
@@ -211,7 +212,7 @@ Rendering render_with_gl(const RenderOptions& options, const io::Model& model, c
   }
 
   Rendering rendering;
-  rendering.times = time_frames(options.frames, [&] { frontend::draw_gl_frame(gl, state, mesh, material_draws); });
+  rendering.times = time_frames(options, [&] { frontend::draw_gl_frame(gl, state, mesh, material_draws); });
   rendering.image = gl.read_color();
   // OpenGL does not say how it drew: clraster's own counters are null (triangles_dropped too: the
   // loader's count alone would pass for the whole; the warning line gives it).
