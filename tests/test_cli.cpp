@@ -552,6 +552,25 @@ TEST(CliBadInput, ProgramThatLoopsForEverIsStoppedAtTheTimeLimit) {
   EXPECT_EQ(result.exit_code, 1) << result;
 }
 
+// A program that crashes the process (here a write through a wild pointer, which a CPU device
+// runs as it is) takes down only the child process the render runs in: one error line.
+TEST(CliBadInput, ProgramThatCrashesIsOneErrorLine) {
+  const fs::path program = write_scratch_file(
+      "wild.cl", "clr_attribute(float3, position)\nclr_uniform(float16, mvp)\nclr_output(float4, color)\n"
+                 "void vertex(clr_vertex* v) { v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f)); }\n"
+                 "void fragment(clr_fragment* f) {\n"
+                 "  __global volatile int* wild = (__global volatile int*)(ulong)(16.0f + f->frag_coord.x * 0.0f);\n"
+                 "  *wild = 1;\n"
+                 "  f->out.color = (float4)(1.0f);\n"
+                 "}\n");
+  // (AddressSanitizer, in the sanitizer build, would report the crash itself and exit.)
+  const CliResult result = expect_render_rejected(
+      {triangle_file().string(), "--program", program.string(), "--size", "16x16"},
+      "the render process was ended by signal 11 (Segmentation fault) during its frames: a program crashed",
+      {{"ASAN_OPTIONS", "handle_segv=0"}});
+  EXPECT_EQ(result.exit_code, 1) << result;
+}
+
 TEST(CliRender, TimeLimitThatIsNotReachedChangesNothing) {
   const Image unlimited = render("unlimited.png", {triangle_file().string(), "--size", "32x32"}).picture;
   const Image limited =

@@ -50,7 +50,7 @@ struct RenderOptions {
   Backend backend = Backend::Clraster;
   std::size_t memory_cap = kDefaultMemoryCap;
   int tile_size = kDeviceTileSize;
-  double time_limit_seconds = 0;  // for the frames, once programs are built (cli/time_limit.hpp); 0: none
+  double time_limit_seconds = 0;  // for the frames, once programs are built (cli/isolated_render.hpp)
   std::function<void()> frames_starting;  // told when the first frame begins, if set
 };
 

@@ -3,7 +3,7 @@
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
 #include "cli/commands.hpp"
-#include "cli/time_limit.hpp"
+#include "cli/isolated_render.hpp"
 #include "io/format.hpp"
 
 #include <CLI/CLI.hpp>
@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
                                           CLI::ignore_case))
       ->option_text("clraster|gl (default: clraster)");
   add_context_options(render, render_options.device, memory_cap_mib, render_options.tile_size);
-  render->add_option("--time-limit", render_options.time_limit_seconds,
+  CLI::Option* time_limit = render->add_option("--time-limit", render_options.time_limit_seconds,
                      "Stop the render when its frames (after programs are built) take longer than this many seconds: "
                      "a program that loops for ever ends in an error (default: no limit)")
       ->option_text("SECONDS");
@@ -267,7 +267,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  // What each command returns; the render with a time limit in a process of its own.
+  // What each command returns; a render of a user's program or with a time limit in a process of its own.
   const auto command = [&]() -> int {
     if (*render) {
       parse_size(size, render_options.width, render_options.height);
@@ -296,12 +296,15 @@ int main(int argc, char** argv) {
     return 0;
   };
   return exit_code_of([&] {
-    if (!*render || render_options.time_limit_seconds == 0) return command();
-    if (!(render_options.time_limit_seconds > 0 && render_options.time_limit_seconds <= 1e6)) {
+    const bool limited = time_limit->count() > 0;
+    if (!*render || (render_options.program.empty() && !limited)) return command();
+    if (limited && !(render_options.time_limit_seconds > 0 && render_options.time_limit_seconds <= 1e6)) {
       throw UsageError("--time-limit: expected seconds in (0, 1000000], got " +
                        io::format_number(render_options.time_limit_seconds));
     }
-    return run_with_time_limit(render_options.time_limit_seconds, [&](const std::function<void()>& start_clock) {
+    const std::optional<double> seconds =
+        limited ? std::optional<double>(render_options.time_limit_seconds) : std::nullopt;
+    return run_isolated(seconds, [&](const std::function<void()>& start_clock) {
       render_options.frames_starting = start_clock;
       return exit_code_of(command);
     });

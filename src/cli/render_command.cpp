@@ -9,12 +9,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <iostream>
-#include <memory>
-#include <regex>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -101,39 +98,6 @@ struct Rendering {
   nlohmann::json stats;
 };
 
-// Compiles `program`. PoCL lets clang print its summary of a build's diagnostics ("1 error
-// generated.") straight to the process's stderr, without the diagnostics themselves (which a
-// BuildError carries, and which the build log keeps for warnings): such lines are held back from
-// stderr, anything else written there during the build is passed on.
-Program compile(Context& context, const frontend::ProgramSource& program) {
-  static const std::regex summary(R"(^\d+ (warning|error)s?( and \d+ errors?)? generated\.$)");
-  std::fflush(stderr);
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> captured(std::tmpfile(), &std::fclose);
-  const int saved = captured ? ::dup(STDERR_FILENO) : -1;
-  if (saved < 0) return Program(context, program.text, program.file_name);  // nowhere to hold it: let it through
-  ::dup2(::fileno(captured.get()), STDERR_FILENO);
-  const auto pass_on = [&] {
-    std::fflush(stderr);
-    ::dup2(saved, STDERR_FILENO);
-    ::close(saved);
-    std::rewind(captured.get());
-    char line[4096];
-    while (std::fgets(line, sizeof line, captured.get()) != nullptr) {
-      std::string text(line);
-      if (!text.empty() && text.back() == '\n') text.pop_back();
-      if (!std::regex_match(text, summary)) std::cerr << printable(text) << '\n';
-    }
-  };
-  try {
-    Program compiled(context, program.text, program.file_name);
-    pass_on();
-    return compiled;
-  } catch (...) {
-    pass_on();
-    throw;
-  }
-}
-
 // The program of --program or of --shading material, checked against the command line's contract.
 frontend::ProgramSource contract_program(const RenderOptions& options) {
   frontend::ProgramSource program = options.program.empty()
@@ -160,7 +124,7 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
   std::vector<DrawCall> calls;
   if (program) {
     std::vector<std::string> warnings;
-    material_draws.emplace(context, compile(context, *program), model,
+    material_draws.emplace(context, Program(context, program->text, program->file_name), model,
                            frontend::view_inputs(camera, options.width, options.height), warnings);
     print_warnings(warnings);
     calls = material_draws->calls(vertices, indices, state);
