@@ -87,6 +87,14 @@ struct Renderer::MeshBuffers {
   std::optional<Buffer> corners;
 };
 
+// A mesh's draws with a program, made once (textures loaded, texture coordinates uploaded); left
+// out of the cache, unused, once the mesh or the program is gone.
+struct Renderer::ModelDraws {
+  std::weak_ptr<const MeshData> mesh;
+  std::weak_ptr<const Program> program;
+  frontend::ClrasterModelDraws draws;
+};
+
 struct Renderer::VisibilityTarget {
   static constexpr std::size_t kPixelBytes = 4 + 8 + 4;  // triangle (R32I), barycentrics (RG32F), depth
   static constexpr std::size_t kLargestTexelBytes = 8;
@@ -116,10 +124,21 @@ Renderer::MeshBuffers& Renderer::buffers(const std::shared_ptr<const MeshData>& 
   std::erase_if(uploads_, [](const auto& entry) { return entry.second->mesh.expired(); });
   std::unique_ptr<MeshBuffers>& entry = uploads_[mesh->id];
   if (!entry) {
-    entry.reset(new MeshBuffers{mesh, VertexBuffer(context_, mesh->mesh.positions, mesh->mesh.normals),
+    entry.reset(new MeshBuffers{mesh, VertexBuffer(context_, mesh->model.positions, mesh->model.normals),
                                 IndexBuffer(context_, mesh->indices_drawn()), std::nullopt, std::nullopt});
   }
   return *entry;
+}
+
+Renderer::ModelDraws& Renderer::model_draws(const std::shared_ptr<const MeshData>& mesh,
+                                            const std::shared_ptr<const Program>& program,
+                                            std::vector<std::string>& warnings) {
+  std::erase_if(model_draws_, [](const auto& entry) { return entry->mesh.expired() || entry->program.expired(); });
+  for (const auto& entry : model_draws_) {
+    if (entry->mesh.lock() == mesh && entry->program.lock() == program) return *entry;
+  }
+  return *model_draws_.emplace_back(
+      new ModelDraws{mesh, program, frontend::ClrasterModelDraws(context_, *program, mesh->model, warnings)});
 }
 
 Framebuffer& Renderer::picture_target(int width, int height, int layers) {
@@ -145,35 +164,96 @@ const Program& Renderer::visibility_program() {
   return *visibility_program_;
 }
 
-std::uint64_t Renderer::render(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
-                               const Mat4& projection, io::BuiltinShading shading, std::array<float, 2> depth_range,
-                               const Pictures& pictures, std::uint8_t* rgba) {
-  const std::lock_guard lock(mutex_);
-  MeshBuffers& meshes = buffers(mesh);
+std::uint64_t Renderer::draw_pictures(std::size_t count, const Pictures& pictures, std::uint8_t* rgba,
+                                      const Progress& progress,
+                                      const std::function<DrawStats(Framebuffer&, std::size_t, int)>& draw_chunk) {
   const std::size_t picture_bytes = std::size_t(pictures.width) * std::size_t(pictures.height) * 4;
   // RGBA8 colour and a depth-stencil attachment of 5 bytes a pixel.
   const int chunk = layers_per_pass(pictures, 4 + 5, 5, context_.device().buffer_bytes);
   std::uint64_t dropped = 0;
-  for (std::size_t first = 0; first < views.size(); first += std::size_t(chunk)) {
-    const int layers = static_cast<int>(std::min<std::size_t>(std::size_t(chunk), views.size() - first));
+  for (std::size_t first = 0; first < count; first += std::size_t(chunk)) {
+    const int layers = static_cast<int>(std::min<std::size_t>(std::size_t(chunk), count - first));
     Framebuffer& framebuffer = picture_target(pictures.width, pictures.height, layers);
     framebuffer.clear({0, 0, 0, 1}, 1.0f);  // the command line's background
-    DrawCall call{&meshes.vertices, &meshes.indices};
-    call.state = io::shading_state(shading, views[first], projection, depth_range);
-    for (int k = 0; k < layers; ++k) call.views.push_back({views[first + std::size_t(k)], projection, nullptr});
-    dropped += framebuffer.draw(call).triangles_dropped;
+    dropped += draw_chunk(framebuffer, first, layers).triangles_dropped;
     copy_layers(framebuffer.color(0).read(), layers, pictures, 4, rgba + first * picture_bytes);
+    if (progress) progress(first + std::size_t(layers), count);
   }
   return dropped;
 }
 
+std::uint64_t Renderer::render(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
+                               const Mat4& projection, io::BuiltinShading shading, std::array<float, 2> depth_range,
+                               const Pictures& pictures, std::uint8_t* rgba, const Progress& progress) {
+  const std::lock_guard lock(mutex_);
+  MeshBuffers& meshes = buffers(mesh);
+  return draw_pictures(views.size(), pictures, rgba, progress, [&](Framebuffer& framebuffer, std::size_t first, int layers) {
+    DrawCall call{&meshes.vertices, &meshes.indices};
+    call.state = io::shading_state(shading, views[first], projection, depth_range);
+    for (int k = 0; k < layers; ++k) call.views.push_back({views[first + std::size_t(k)], projection, nullptr});
+    return framebuffer.draw(call);
+  });
+}
+
+std::uint64_t Renderer::render(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
+                               const Mat4& projection, const std::shared_ptr<const Program>& program,
+                               const OwnValues& own, const Pictures& pictures, std::uint8_t* rgba,
+                               const Progress& progress, std::vector<std::string>& warnings) {
+  const std::lock_guard lock(mutex_);
+  MeshBuffers& meshes = buffers(mesh);
+  frontend::ClrasterModelDraws& draws = model_draws(mesh, program, warnings).draws;
+  // The command line's state for programs (they read no built-in input): depth test, no culling.
+  const DrawState state = io::shading_state(io::BuiltinShading::Normal, views[0], projection, {0, 1});
+  const ProgramInterface& interface = program->interface();
+  return draw_pictures(views.size(), pictures, rgba, progress, [&](Framebuffer& framebuffer, std::size_t first, int layers) {
+    std::vector<frontend::ProgramInputs> inputs;
+    std::vector<Bindings> own_bindings;
+    for (std::size_t view = first; view < first + std::size_t(layers); ++view) {
+      inputs.push_back(frontend::view_inputs(views[view], projection, pictures.width, pictures.height));
+      Bindings& bindings = own_bindings.emplace_back(*program);
+      for (const OwnValues::Uniform& uniform : own.uniforms) {
+        const auto declared = std::find_if(interface.uniforms.begin(), interface.uniforms.end(),
+                                           [&](const ProgramVariable& v) { return v.name == uniform.name; });
+        const std::size_t bytes = declared->bytes;
+        bindings.set_bytes(uniform.name, std::span(uniform.bytes).subspan(uniform.per_view ? view * bytes : 0, bytes));
+      }
+      for (const auto& [name, texture] : own.textures) bindings.set_texture(name, *texture, Sampler{});
+    }
+    draws.bind(inputs, own_bindings);
+    return framebuffer.draw(draws.calls(meshes.vertices, meshes.indices, state));
+  });
+}
+
+std::shared_ptr<const Program> Renderer::compile(const std::string& source, const std::string& file_name) {
+  frontend::check_contract({source, file_name}, frontend::kPythonPackage);
+  const std::lock_guard lock(mutex_);
+  return std::make_shared<const Program>(context_, source, file_name);
+}
+
+std::shared_ptr<const Program> Renderer::material_program() {
+  const std::lock_guard lock(mutex_);
+  if (!material_program_) material_program_ = std::make_shared<const Program>(context_, frontend::kMaterialProgram, "<material>");
+  return material_program_;
+}
+
+std::shared_ptr<const Texture> Renderer::texture(int width, int height, Format format, std::span<const std::byte> texels) {
+  const std::size_t row_bytes = texels.size() / std::size_t(height);
+  std::vector<std::byte> bottom_row_first(texels.size());
+  for (int row = 0; row < height; ++row) {
+    std::memcpy(bottom_row_first.data() + std::size_t(height - 1 - row) * row_bytes,
+                texels.data() + std::size_t(row) * row_bytes, row_bytes);
+  }
+  const std::lock_guard lock(mutex_);
+  return std::make_shared<const Texture>(context_, width, height, format, bottom_row_first, true);
+}
+
 std::uint64_t Renderer::rasterize(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
                                   const Mat4& projection, const Pictures& pictures, std::int32_t* triangles,
-                                  float* barycentrics, float* depths) {
+                                  float* barycentrics, float* depths, const Progress& progress) {
   const std::lock_guard lock(mutex_);
   MeshBuffers& meshes = buffers(mesh);
   if (!meshes.positions) {
-    meshes.positions.emplace(context_, mesh->mesh.positions);
+    meshes.positions.emplace(context_, mesh->model.positions);
     const std::span<const std::uint32_t> corners = mesh->indices_drawn();
     meshes.corners.emplace(context_, corners);
   }
@@ -220,6 +300,7 @@ std::uint64_t Renderer::rasterize(const std::shared_ptr<const MeshData>& mesh, s
     copy_layers(target.triangles.read(), layers, pictures, 4, triangles + first * pixels);
     copy_layers(target.barycentrics.read(), layers, pictures, 8, barycentrics + first * pixels * 2);
     copy_layers(target.depths.read(), layers, pictures, 4, depths + first * pixels);
+    if (progress) progress(first + std::size_t(layers), views.size());
   }
   if (!mesh->drawn_triangles.empty()) {  // drawn triangle -> the mesh's, past those left out
     for (std::int32_t* id = triangles; id != triangles + views.size() * pixels; ++id) {
