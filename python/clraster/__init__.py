@@ -89,6 +89,15 @@ def _checked(name, value, dtypes, shape):
     return array
 
 
+def _indices(name, value):
+    """Triangles, int32 or uint32 (M, 3) without negative indices, as uint32 (the same bytes)."""
+    indices = _checked(name, value, (np.int32, np.uint32), (None, 3))
+    if indices.dtype == np.int32 and indices.size and indices.min() < 0:
+        triangle = int(np.argmax((indices < 0).any(axis=1)))
+        raise ValueError(f"{name}: triangle {triangle} has the negative index {indices[triangle].min()}")
+    return indices.view(np.uint32)
+
+
 def _matrices(name, value):
     """A (4, 4) or (B, 4, 4) array of finite numbers as float32 (B, 4, 4), and whether it was one."""
     array = _as_array(name, value)
@@ -146,15 +155,12 @@ class Mesh:
 
     def __init__(self, positions, indices, normals=None, uvs=None):
         positions = _checked("positions", positions, (np.float32,), (None, 3))
-        indices = _checked("indices", indices, (np.int32, np.uint32), (None, 3))
-        if indices.dtype == np.int32 and indices.size and indices.min() < 0:
-            triangle = int(np.argmax((indices < 0).any(axis=1)))
-            raise ValueError(f"indices: triangle {triangle} has the negative index {indices[triangle].min()}")
+        indices = _indices("indices", indices)
         if normals is not None:
             normals = _checked("normals", normals, (np.float32,), (len(positions), 3))
         if uvs is not None:
             uvs = _checked("uvs", uvs, (np.float32,), (len(positions), 2))
-        self._mesh = _clraster.Mesh(positions, indices.view(np.uint32), normals, uvs)
+        self._mesh = _clraster.Mesh(positions, indices, normals, uvs)
         if self._mesh.triangles_dropped:
             warnings.warn(_clraster.describe_triangles_dropped(self._mesh.triangles_dropped), TrianglesDroppedWarning,
                           stacklevel=2)
@@ -240,13 +246,16 @@ class VisibilityBuffer:
     - barycentric: float32 (B, H, W, 2), the perspective-correct weights of the triangle's first
       and second corners (the third's is 1 - both), 0 where empty;
     - depth: float32 (B, H, W), window-space depth in [0, 1], 1 where empty;
-    - mvp: float32 (B, 4, 4), projection @ view of each view: what interpolate's derivatives
-      take the triangles' clip positions from.
+    - positions: float32 (N, 4) or (B, N, 4), homogeneous vertex positions, and mvp: float32
+      (B, 4, 4), the matrix of each view that takes them to clip space: the mesh's positions with
+      w = 1 and projection @ view, or the clip positions given and the identity. interpolate's
+      derivatives come from these.
     """
 
     triangle: np.ndarray
     barycentric: np.ndarray
     depth: np.ndarray
+    positions: np.ndarray
     mvp: np.ndarray
 
     def to_nvdiffrast(self):
@@ -312,21 +321,42 @@ class Context:
         _warn_dropped_by_pipeline(dropped)
         return out
 
-    def rasterize(self, mesh, view, projection, size, *, progress=None):
+    def rasterize(self, mesh, view, projection=None, size=None, *, progress=None):
         """The visibility buffer of `mesh` for each view (a VisibilityBuffer of B pictures), with
         the cameras and size of render(): the pixels it covers are exactly those render draws.
-        `progress` as render's."""
-        if not isinstance(mesh, Mesh):
-            raise ValueError(f"mesh must be a clraster.Mesh, got {type(mesh).__name__}")
-        views, projection = self._camera(view, projection)
+
+        Or, as nvdiffrast's rasterize takes them, ``rasterize(clip_positions, indices, size=(W,
+        H))``: clip-space positions float32 (B, N, 4) (or (N, 4): B = 1) and triangles int32 or
+        uint32 (M, 3); a triangle with a NaN or infinite clip coordinate is not drawn, with a
+        TrianglesDroppedWarning. `progress` as render's."""
+        if isinstance(mesh, Mesh):
+            views, projection = self._camera(view, projection)
+            positions = np.concatenate([mesh.positions, np.ones((len(mesh.positions), 1), np.float32)], axis=1)
+            mvp = projection @ views
+            draw = lambda outputs, report: self._context.rasterize(mesh._mesh, views, projection, *outputs, report)
+        else:
+            if projection is not None:
+                raise ValueError("rasterize takes a mesh, views and a projection, or clip positions and indices "
+                                 "without a projection")
+            positions = _as_array("clip positions", mesh)
+            if positions.ndim == 2:
+                positions = positions[None]
+            positions = _checked("clip positions", positions, (np.float32,), (None, None, 4))
+            if not len(positions) or not positions.shape[1]:
+                raise ValueError(f"clip positions must have at least one view and vertex, got {positions.shape}")
+            indices = _indices("indices", view)
+            views = positions  # one picture per set of positions
+            mvp = np.broadcast_to(np.eye(4, dtype=np.float32), (len(positions), 4, 4))
+            draw = lambda outputs, report: self._context.rasterize_clip(positions, indices, *outputs, report)
+        if size is None:
+            raise ValueError("size must be (width, height), two integers, got None")
         width, height = _size(size)
-        triangle = np.empty((len(views), height, width), np.int32)
-        barycentric = np.empty((len(views), height, width, 2), np.float32)
-        depth = np.empty((len(views), height, width), np.float32)
+        outputs = (np.empty((len(views), height, width), np.int32), np.empty((len(views), height, width, 2), np.float32),
+                   np.empty((len(views), height, width), np.float32))
         with _progress_bar(progress, "rasterize") as report:
-            dropped = self._context.rasterize(mesh._mesh, views, projection, triangle, barycentric, depth, report)
+            dropped = draw(outputs, report)
         _warn_dropped_by_pipeline(dropped)
-        return VisibilityBuffer(triangle, barycentric, depth, projection @ views)
+        return VisibilityBuffer(*outputs, positions, mvp)
 
     @staticmethod
     def _camera(view, projection):
@@ -519,6 +549,7 @@ def _texture_image(where, value):
 def interpolate(attributes, vb, mesh, diff_attrs=None):
     """Per-vertex `attributes` (N, C), or (B, N, C) one set per view, interpolated over the
     visibility buffer `vb` of `mesh` with its barycentrics: float32 (B, H, W, C), 0 where empty.
+    `mesh` is the Mesh rasterized, or the indices rasterized with clip positions.
 
     With `diff_attrs` (indices of attributes, or "all"), also their screen-space derivatives as
     nvdiffrast's interpolate gives them: float32 (B, H, W, 2 * len(diff_attrs)) of (da/dX, da/dY)
@@ -527,12 +558,11 @@ def interpolate(attributes, vb, mesh, diff_attrs=None):
     then the result is the pair (values, derivatives)."""
     if not isinstance(vb, VisibilityBuffer):
         raise ValueError(f"vb must be a clraster.VisibilityBuffer, got {type(vb).__name__}")
-    if not isinstance(mesh, Mesh):
-        raise ValueError(f"mesh must be a clraster.Mesh, got {type(mesh).__name__}")
+    triangles = mesh.indices if isinstance(mesh, Mesh) else _indices("indices", mesh)
     attributes = _as_array("attributes", attributes)
     if not (np.issubdtype(attributes.dtype, np.floating) or np.issubdtype(attributes.dtype, np.integer)):
         raise ValueError(f"attributes must be numbers, got {attributes.dtype}")
-    vertex_count = len(mesh.positions)
+    vertex_count = vb.positions.shape[-2]
     views = len(vb.triangle)
     if attributes.ndim == 2:
         attributes = attributes[None]
@@ -540,7 +570,7 @@ def interpolate(attributes, vb, mesh, diff_attrs=None):
         raise ValueError(f"attributes must have shape ({vertex_count}, C) or ({views}, {vertex_count}, C) for this "
                          f"mesh and visibility buffer, got {tuple(np.shape(attributes))}")
     covered = vb.triangle >= 0
-    corners = mesh.indices[np.where(covered, vb.triangle, 0)]  # (B, H, W, 3)
+    corners = triangles[np.where(covered, vb.triangle, 0)]  # (B, H, W, 3)
     per_view = np.arange(views).reshape(-1, 1, 1, 1) if attributes.shape[0] == views else 0
     values = attributes[per_view, corners].astype(np.float32, copy=False)  # (B, H, W, 3, C)
     u, v = vb.barycentric[..., 0:1], vb.barycentric[..., 1:2]
@@ -558,7 +588,7 @@ def interpolate(attributes, vb, mesh, diff_attrs=None):
         raise ValueError(f"diff_attrs must be \"all\" or a list of attribute indices, got {diff_attrs!r}") from None
     if any(not 0 <= a < channels for a in chosen):
         raise ValueError(f"diff_attrs: indices must be within 0..{channels - 1}, got {chosen}")
-    db = _barycentric_derivatives(vb, mesh, corners)  # (B, H, W, 2 corners, 2 axes)
+    db = _barycentric_derivatives(vb, corners)  # (B, H, W, 2 corners, 2 axes)
     chosen_values = values[..., chosen].astype(np.float64)  # (B, H, W, 3, D)
     # a = a0 b0 + a1 b1 + a2 (1 - b0 - b1): da = (a0 - a2) db0 + (a1 - a2) db1
     differences = chosen_values[..., :2, :] - chosen_values[..., 2:3, :]  # (B, H, W, 2, D)
@@ -567,14 +597,17 @@ def interpolate(attributes, vb, mesh, diff_attrs=None):
     return result, derivatives.reshape(derivatives.shape[:3] + (2 * len(chosen),))
 
 
-def _barycentric_derivatives(vb, mesh, corners):
+def _barycentric_derivatives(vb, corners):
     """d(b0, b1)/d(X, Y) in pixels (Y up) at each pixel, float64 (B, H, W, 2, 2): nvdiffrast's
     rast_db. A corner's weight at normalized device (x, y) is n_i . (x, y, 1) / sum_j n_j . (x, y, 1)
     with n_i = cross(c_j, c_k) of the corners' clip (x, y, w), as the visibility program weighs
     them, so its derivative is exact: (n_i S - w_i sum_j n_j) / S^2, times 2 / (W or H) per pixel."""
     views, height, width = vb.triangle.shape
-    positions = np.concatenate([mesh.positions, np.ones((len(mesh.positions), 1), np.float32)], axis=1)
-    clip = np.einsum("bij,bhwcj->bhwci", vb.mvp.astype(np.float64), positions[corners].astype(np.float64))
+    if vb.positions.ndim == 3:  # clip positions, a set per view
+        positions = vb.positions[np.arange(views).reshape(-1, 1, 1, 1), corners]
+    else:
+        positions = vb.positions[corners]
+    clip = np.einsum("bij,bhwcj->bhwci", vb.mvp.astype(np.float64), positions.astype(np.float64))
     clip = clip[..., [0, 1, 3]]  # (B, H, W, 3 corners, (x, y, w))
     normals = np.stack([np.cross(clip[..., 1, :], clip[..., 2, :]), np.cross(clip[..., 2, :], clip[..., 0, :]),
                         np.cross(clip[..., 0, :], clip[..., 1, :])], axis=-2)  # (B, H, W, 3, 3)

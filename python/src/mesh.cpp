@@ -22,6 +22,15 @@ bool finite_at(const std::vector<float>& values, std::size_t components, std::ui
 
 }  // namespace
 
+void check_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (indices[i] >= vertex_count) {
+      throw InvalidArgument("indices: triangle " + std::to_string(i / 3) + " has index " + std::to_string(indices[i]) +
+                            ", out of range for " + std::to_string(vertex_count) + " vertices");
+    }
+  }
+}
+
 std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vector<std::uint32_t> indices,
                                           std::optional<std::vector<float>> normals,
                                           std::optional<std::vector<float>> uvs) {
@@ -37,12 +46,7 @@ std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vec
     throw InvalidArgument("uvs: " + std::to_string(uvs->size() / 2) + " given for " + std::to_string(vertex_count) +
                           " vertices");
   }
-  for (std::size_t i = 0; i < indices.size(); ++i) {
-    if (indices[i] >= vertex_count) {
-      throw InvalidArgument("indices: triangle " + std::to_string(i / 3) + " has index " + std::to_string(indices[i]) +
-                            ", out of range for " + std::to_string(vertex_count) + " vertices");
-    }
-  }
+  check_indices(indices, vertex_count);
 
   auto data = std::make_shared<MeshData>();
   io::Model& model = data->model;

@@ -30,6 +30,9 @@ struct MeshData {
   }
 };
 
+// Throws InvalidArgument naming the first triangle with an index of `vertex_count` or more.
+void check_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count);
+
 // A mesh from arrays of `vertex_count` vertices: positions and normals 3 floats each, uvs 2,
 // indices 3 per triangle. Throws InvalidArgument for an index out of range or arrays whose sizes
 // disagree. Without normals, every vertex gets the area-weighted normal of the faces around its

@@ -318,8 +318,24 @@ NB_MODULE(_clraster, m) {
             const Pictures pictures = pictures_of(triangles.shape(0), int(triangles.shape(2)), int(triangles.shape(1)));
             const Progress report = with_gil(std::move(progress));
             nb::gil_scoped_release release;
-            return renderer.rasterize(mesh.data, view_matrices, projection_matrix, pictures, triangles.data(),
-                                      barycentrics.data(), depths.data(), report);
+            return renderer.rasterize(mesh.data, view_matrices, projection_matrix, pictures,
+                                      {triangles.data(), barycentrics.data(), depths.data()}, report);
           },
-          "mesh"_a, "views"_a, "projection"_a, "triangles"_a, "barycentrics"_a, "depths"_a, "progress"_a.none());
+          "mesh"_a, "views"_a, "projection"_a, "triangles"_a, "barycentrics"_a, "depths"_a, "progress"_a.none())
+      .def(
+          "rasterize_clip",
+          [](Renderer& renderer, In<float, nb::shape<-1, -1, 4>> positions, In<std::uint32_t, nb::shape<-1, 3>> indices,
+             Out<std::int32_t, nb::shape<-1, -1, -1>> triangles, Out<float, nb::shape<-1, -1, -1, 2>> barycentrics,
+             Out<float, nb::shape<-1, -1, -1>> depths, std::optional<nb::callable> progress) {
+            const Pictures pictures = pictures_of(triangles.shape(0), int(triangles.shape(2)), int(triangles.shape(1)));
+            if (positions.shape(0) != pictures.count) throw InvalidArgument("one set of clip positions per picture");
+            const std::size_t vertex_count = positions.shape(1);
+            check_indices(std::span(indices.data(), indices.size()), vertex_count);
+            const Progress report = with_gil(std::move(progress));
+            nb::gil_scoped_release release;
+            return renderer.rasterize(std::span(positions.data(), positions.size()), vertex_count,
+                                      std::span(indices.data(), indices.size()), pictures,
+                                      {triangles.data(), barycentrics.data(), depths.data()}, report);
+          },
+          "positions"_a, "indices"_a, "triangles"_a, "barycentrics"_a, "depths"_a, "progress"_a.none());
 }

@@ -41,6 +41,14 @@ struct OwnValues {
   std::vector<std::pair<std::string, std::shared_ptr<const Texture>>> textures;
 };
 
+// Where a visibility buffer goes: per picture and pixel (rows from the top) a triangle, two
+// barycentrics and a depth.
+struct VisibilityOutputs {
+  std::int32_t* triangles;
+  float* barycentrics;
+  float* depths;
+};
+
 // Called after each chunk of a batch with the pictures done and the batch's count.
 using Progress = std::function<void(std::size_t done, std::size_t total)>;
 
@@ -76,13 +84,28 @@ class Renderer {
   // The visibility buffer of `mesh` for each view: per pixel the mesh triangle drawn there (-1 for
   // none), its perspective-correct barycentrics (2 floats) and its window depth (1 where empty).
   std::uint64_t rasterize(const std::shared_ptr<const MeshData>& mesh, std::span<const Mat4> views,
-                          const Mat4& projection, const Pictures& pictures, std::int32_t* triangles,
-                          float* barycentrics, float* depths, const Progress& progress);
+                          const Mat4& projection, const Pictures& pictures, const VisibilityOutputs& out,
+                          const Progress& progress);
+  // The same of triangles `indices` (three per triangle, each below vertex_count) given in clip
+  // space: pictures.count views of vertex_count positions (x, y, z, w) each.
+  std::uint64_t rasterize(std::span<const float> clip_positions, std::size_t vertex_count,
+                          std::span<const std::uint32_t> indices, const Pictures& pictures,
+                          const VisibilityOutputs& out, const Progress& progress);
 
  private:
   struct MeshBuffers;
   struct VisibilityTarget;
   struct ModelDraws;
+  // What one view of a visibility buffer draws: clip positions = mvp * positions (float4 each).
+  struct VisibilityView {
+    const Buffer* positions;
+    Mat4 mvp;
+  };
+  // Draws `count` visibility buffers in chunks of layers; `chunk_views(first, layers)` gives the
+  // views of a chunk (what they point to must last until the next call).
+  std::uint64_t draw_visibility(std::size_t count, const IndexBuffer& indices, const Buffer& corners,
+                                const Pictures& pictures, const VisibilityOutputs& out, const Progress& progress,
+                                const std::function<std::vector<VisibilityView>(std::size_t first, int layers)>& chunk_views);
   // Draws `count` pictures in chunks of layers of the picture target: `draw_chunk(framebuffer,
   // first, layers)` draws views first .. first + layers - 1 into the cleared framebuffer.
   std::uint64_t draw_pictures(std::size_t count, const Pictures& pictures, std::uint8_t* rgba,

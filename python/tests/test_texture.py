@@ -93,18 +93,18 @@ def test_texture_levels_from_uv_derivatives():
     np.testing.assert_allclose(sampled, [level0, 0.5, (level0 + 0.5) / 2], atol=1e-6)
 
 
-def test_texture_bad_arguments():
+def test_texture_bad_arguments(ctx, quad):
     with pytest.raises(ValueError, match="image must be uint8 or float32, got float64"):
         clraster.texture(np.zeros((2, 2, 4)), np.zeros((1, 2)))
     with pytest.raises(ValueError, match=r"uv must be floats of shape \(\.\.\., 2\)"):
         clraster.texture(np.zeros((2, 2, 4), np.uint8), np.zeros((1, 3)))
     with pytest.raises(ValueError, match=r"uv_da must be floats of shape \(1, 4\)"):
         clraster.texture(np.zeros((2, 2, 4), np.uint8), np.zeros((1, 2)), np.zeros((1, 2)))
+    vb = ctx.rasterize(quad, VIEW, PROJECTION, size=(8, 8))
     with pytest.raises(ValueError, match="diff_attrs: indices must be within 0..1"):
-        mesh = clraster.Mesh(QUAD, QUAD_INDICES)
-        vb = clraster.VisibilityBuffer(np.full((1, 2, 2), -1, np.int32), np.zeros((1, 2, 2, 2), np.float32),
-                                       np.ones((1, 2, 2), np.float32), np.eye(4, dtype=np.float32)[None])
-        clraster.interpolate(QUAD_UVS, vb, mesh, diff_attrs=[2])
+        clraster.interpolate(QUAD_UVS, vb, quad, diff_attrs=[2])
+    with pytest.raises(ValueError, match='diff_attrs must be "all" or a list of attribute indices'):
+        clraster.interpolate(QUAD_UVS, vb, quad, diff_attrs="some")
 
 
 def test_shading_in_numpy_samples_as_a_program_does(ctx, quad):
