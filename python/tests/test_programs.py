@@ -149,3 +149,12 @@ def test_program_errors(ctx, own_program, tmp_path):
     other = clraster.Context()
     with pytest.raises(ValueError, match="compiled for another context"):
         other.render(mesh, view, projection, size=(8, 8), shading=own_program)
+
+
+def test_the_programs_example_runs(tmp_path):
+    import subprocess
+    import sys
+    subprocess.run([sys.executable, str(REPOSITORY / "examples" / "python" / "programs.py"), str(tmp_path)], check=True)
+    from PIL import Image
+    with Image.open(tmp_path / "programs.png") as sheet:
+        assert sheet.size == (4 * 192, 2 * 192)
