@@ -306,7 +306,7 @@ class Context:
         views, projection = self._camera(view, projection)
         width, height = _size(size)
         out = _output("out", out, np.uint8, (len(views), height, width, 4))
-        with _progress_bar(progress, "render") as report:
+        with _ProgressBar(progress, "render") as report:
             if shading in _BUILTIN_SHADINGS:
                 depth_range = _depth_range(projection) if depth_range is None else tuple(map(float, depth_range))
                 dropped = self._context.render(mesh._mesh, views, projection, shading, depth_range, out, report)
@@ -353,7 +353,7 @@ class Context:
         width, height = _size(size)
         outputs = (np.empty((len(views), height, width), np.int32), np.empty((len(views), height, width, 2), np.float32),
                    np.empty((len(views), height, width), np.float32))
-        with _progress_bar(progress, "rasterize") as report:
+        with _ProgressBar(progress, "rasterize") as report:
             dropped = draw(outputs, report)
         _warn_dropped_by_pipeline(dropped)
         return VisibilityBuffer(*outputs, positions, mvp)
@@ -368,16 +368,14 @@ class Context:
 
     def _program_of(self, shading):
         if shading == "material":
-            if not hasattr(self, "_material_program"):
-                self._material_program = self._context.material_program()
-            return self._material_program
+            return self._context.material_program()  # compiled by the first call, then kept
         if shading._ctx is not self:
             raise ValueError("the program was compiled for another context: programs draw on the context that "
                              "compiled them")
         return shading._program
 
 
-class _progress_bar:
+class _ProgressBar:
     """A context manager giving the callback the extension calls after each chunk of a batch: a
     tqdm bar, made at the first call that leaves pictures to draw (a batch of one chunk shows
     none). progress None: shown when stderr is a terminal (tqdm's disable=None); False: none."""

@@ -1,8 +1,12 @@
 """shading="material" and programs of one's own: the command line's pictures byte for byte, and
 uniforms and textures bound from numpy."""
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
+from PIL import Image
 
 import clraster
 from conftest import MODELS, REPOSITORY, cli_picture
@@ -152,9 +156,6 @@ def test_program_errors(ctx, own_program, tmp_path):
 
 
 def test_the_programs_example_runs(tmp_path):
-    import subprocess
-    import sys
     subprocess.run([sys.executable, str(REPOSITORY / "examples" / "python" / "programs.py"), str(tmp_path)], check=True)
-    from PIL import Image
     with Image.open(tmp_path / "programs.png") as sheet:
         assert sheet.size == (4 * 192, 2 * 192)
