@@ -12,7 +12,7 @@
 // a glViewport on its layer, a glUniformMatrix4fv of its mvp and a glDrawElements.
 #include "bench/runner.hpp"
 #include "bench/scenes.hpp"
-#include "frontend/model_draws.hpp"
+#include "frontend/gl_model_draws.hpp"
 #include "io/image_io.hpp"
 #include "pipeline/draw_state.hpp"
 

@@ -1,5 +1,6 @@
 #include "bench/runner.hpp"
 
+#include "frontend/gl_model_draws.hpp"
 #include "frontend/model_draws.hpp"
 #include "oracle/gl_renderer.hpp"
 
@@ -54,9 +55,11 @@ class ClrasterScene {
         framebuffer_(make_framebuffer(context, scene, width, height)) {
     if (scene.draws_materials()) {
       std::vector<std::string> warnings;
-      material_draws_.emplace(context, Program(context, frontend::kMaterialProgram, "<material>"), scene.model,
-                              frontend::view_inputs(scene.camera, width, height), warnings);
+      material_draws_.emplace(context, material_program_.emplace(context, frontend::kMaterialProgram, "<material>"),
+                              scene.model, warnings);
       require_no_warnings(warnings, scene.name);
+      const frontend::ProgramInputs view = frontend::view_inputs(scene.camera, width, height);
+      material_draws_->bind({&view, 1});
       calls_ = material_draws_->calls(vertices_, indices_, state);
     } else if (!scene.instances.empty()) {
       const Program& program = instanced_program_.emplace(context, kInstancedProgram, "<instanced>");
@@ -121,6 +124,7 @@ class ClrasterScene {
   std::optional<Texture> color_;  // none for a scene of views: the layered framebuffer's own
   std::optional<Texture> depth_;
   Framebuffer framebuffer_;
+  std::optional<Program> material_program_;
   std::optional<frontend::ClrasterModelDraws> material_draws_;
   std::optional<Program> instanced_program_;  // an instanced scene's
   std::optional<Bindings> instanced_bindings_;

@@ -21,7 +21,7 @@
 
 #include "bench/scenes.hpp"
 #include "clraster/clraster.hpp"
-#include "frontend/model_draws.hpp"
+#include "frontend/gl_model_draws.hpp"
 #include "io/image_compare.hpp"
 #include "oracle/gl_renderer.hpp"
 

@@ -102,7 +102,8 @@ run "kernels under Oclgrind (release build)" - device "$root/build" -L '^oclgrin
 python_suite() {
   local venv=$root/build-python/venv
   [ -x "$venv/bin/python" ] || /usr/bin/python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet --disable-pip-version-check -r "$root/python/requirements.txt" &&
+  "$venv/bin/pip" install --quiet --disable-pip-version-check -r "$root/python/requirements.txt" \
+      -r "$root/python/requirements-ray.txt" &&
     "$venv/bin/pip" install --quiet --disable-pip-version-check --no-build-isolation \
       --config-settings=build-dir="$root/build-python/{wheel_tag}" "$root" &&
     (cd "$root" && CLRASTER_DEVICE=$pocl CLRASTER_CLI=$root/build/src/clraster \

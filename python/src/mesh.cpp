@@ -22,6 +22,15 @@ bool finite_at(const std::vector<float>& values, std::size_t components, std::ui
 
 }  // namespace
 
+void check_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (indices[i] >= vertex_count) {
+      throw InvalidArgument("indices: triangle " + std::to_string(i / 3) + " has index " + std::to_string(indices[i]) +
+                            ", out of range for " + std::to_string(vertex_count) + " vertices");
+    }
+  }
+}
+
 std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vector<std::uint32_t> indices,
                                           std::optional<std::vector<float>> normals,
                                           std::optional<std::vector<float>> uvs) {
@@ -37,26 +46,21 @@ std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vec
     throw InvalidArgument("uvs: " + std::to_string(uvs->size() / 2) + " given for " + std::to_string(vertex_count) +
                           " vertices");
   }
-  for (std::size_t i = 0; i < indices.size(); ++i) {
-    if (indices[i] >= vertex_count) {
-      throw InvalidArgument("indices: triangle " + std::to_string(i / 3) + " has index " + std::to_string(indices[i]) +
-                            ", out of range for " + std::to_string(vertex_count) + " vertices");
-    }
-  }
+  check_indices(indices, vertex_count);
 
   auto data = std::make_shared<MeshData>();
-  io::Mesh& mesh = data->mesh;
-  mesh.positions = std::move(positions);
-  mesh.indices = std::move(indices);
-  if (uvs) mesh.texcoords = std::move(*uvs);
+  io::Model& model = data->model;
+  model.positions = std::move(positions);
+  model.indices = std::move(indices);
+  if (uvs) model.texcoords = std::move(*uvs);
   data->id = next_id();
 
   const auto finite_vertex = [&](std::uint32_t v) {
-    return finite_at(mesh.positions, 3, v) && (!normals || finite_at(*normals, 3, v)) &&
-           (mesh.texcoords.empty() || finite_at(mesh.texcoords, 2, v));
+    return finite_at(model.positions, 3, v) && (!normals || finite_at(*normals, 3, v)) &&
+           (model.texcoords.empty() || finite_at(model.texcoords, 2, v));
   };
-  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    const std::uint32_t* corners = &mesh.indices[3 * t];
+  for (std::size_t t = 0; t < model.triangle_count(); ++t) {
+    const std::uint32_t* corners = &model.indices[3 * t];
     if (finite_vertex(corners[0]) && finite_vertex(corners[1]) && finite_vertex(corners[2])) {
       data->drawn_indices.insert(data->drawn_indices.end(), corners, corners + 3);
       data->drawn_triangles.push_back(static_cast<std::int32_t>(t));
@@ -75,17 +79,20 @@ std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vec
     data->drawn_triangles.clear();
   }
 
+  model.materials.emplace_back();  // white
+  model.parts.push_back({0, static_cast<std::uint32_t>(data->indices_drawn().size()), 0});
+
   if (normals) {
-    mesh.normals = std::move(*normals);
+    model.normals = std::move(*normals);
   } else {
     // Smoothed over the drawn triangles only, as the loader smooths what it keeps.
     io::Mesh drawn;
-    drawn.positions = mesh.positions;
+    drawn.positions = model.positions;
     drawn.indices.assign(data->indices_drawn().begin(), data->indices_drawn().end());
     drawn.normals.resize(drawn.positions.size());
     io::Mesh* meshes[] = {&drawn};
     io::smooth_normals(meshes);
-    mesh.normals = std::move(drawn.normals);
+    model.normals = std::move(drawn.normals);
   }
   return data;
 }
@@ -93,10 +100,8 @@ std::shared_ptr<const MeshData> make_mesh(std::vector<float> positions, std::vec
 std::shared_ptr<const MeshData> load_mesh(const std::string& path, std::vector<std::string>& warnings) {
   io::Model model = io::load_model(path, warnings);
   if (model.triangles_dropped > 0) warnings.push_back(path + ": " + io::describe_triangles_dropped(model.triangles_dropped));
-  warnings.insert(warnings.end(), model.material_warnings.begin(), model.material_warnings.end());
   auto data = std::make_shared<MeshData>();
-  data->materials = std::move(model.materials);
-  data->mesh = std::move(static_cast<io::Mesh&>(model));
+  data->model = std::move(model);
   data->id = next_id();
   return data;
 }

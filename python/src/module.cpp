@@ -4,11 +4,14 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/function.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
+#include "frontend/program_contract.hpp"
 #include "io/camera.hpp"
 #include "io/model_loader.hpp"
 #include "mesh.hpp"
@@ -63,6 +66,51 @@ io::BuiltinShading builtin_shading(const std::string& name) {
   throw InvalidArgument("shading must be one of normal, lambert, depth, overdraw, not '" + name + "'");
 }
 
+// A compiled program of a context, and a texture of one: shared with the draws that use them.
+struct ProgramHandle {
+  std::shared_ptr<const Program> program;
+};
+struct TextureHandle {
+  std::shared_ptr<const Texture> texture;
+};
+
+// What a program declares, for the package to check values against: uniforms as (name, type,
+// array size, bytes, whether the renderer binds it), textures as (name, whether the renderer binds
+// it), attributes as (name, type).
+nb::dict declarations(const Program& program) {
+  const ProgramInterface& interface = program.interface();
+  nb::list uniforms, textures, attributes;
+  for (const ProgramVariable& u : interface.uniforms) {
+    uniforms.append(nb::make_tuple(u.name, u.type, u.array_size, u.bytes, frontend::provides_uniform(u.name)));
+  }
+  for (const ProgramVariable& t : interface.textures) textures.append(nb::make_tuple(t.name, t.name == frontend::kBaseColorTexture));
+  for (const ProgramVariable& a : interface.attributes) attributes.append(nb::make_tuple(a.name, a.type));
+  nb::dict result;
+  result["uniforms"] = uniforms;
+  result["textures"] = textures;
+  result["attributes"] = attributes;
+  return result;
+}
+
+Format texture_format(std::size_t channels, bool floats) {
+  switch (channels) {
+    case 1: return floats ? Format::R32F : Format::R8;
+    case 2: return floats ? Format::RG32F : Format::RG8;
+    case 4: return floats ? Format::RGBA32F : Format::RGBA8;
+    default: throw InvalidArgument("a texture has 1, 2 or 4 channels, not " + std::to_string(channels));
+  }
+}
+
+// A Python callable (or None) called with the GIL after each chunk of a batch; what it raises
+// (KeyboardInterrupt) ends the batch.
+Progress with_gil(std::optional<nb::callable> callback) {
+  if (!callback) return {};
+  return [callback = std::move(*callback)](std::size_t done, std::size_t total) {
+    nb::gil_scoped_acquire acquire;
+    callback(done, total);
+  };
+}
+
 // The Python side of a mesh: a handle on arrays it shares with every context that uploaded them.
 struct MeshHandle {
   std::shared_ptr<const MeshData> data;
@@ -98,6 +146,7 @@ NB_MODULE(_clraster, m) {
   nb::exception<InvalidArgument>(m, "InvalidArgument", nb::make_tuple(error, nb::handle(PyExc_ValueError)));
 
   m.def("version", &version);
+  m.attr("MAX_TEXTURE_SIZE") = kMaxTextureSize;
   m.def("describe_triangles_dropped", &io::describe_triangles_dropped);
 
   nb::class_<DeviceInfo>(m, "Device")
@@ -126,19 +175,19 @@ NB_MODULE(_clraster, m) {
                                             std::move(uv_values))};
           },
           "positions"_a, "indices"_a, "normals"_a.none(), "uvs"_a.none())
-      .def_prop_ro("positions", [](const MeshHandle& h) { return view_of(h, h.data->mesh.positions, 3); })
-      .def_prop_ro("indices", [](const MeshHandle& h) { return view_of(h, h.data->mesh.indices, 3); })
-      .def_prop_ro("normals", [](const MeshHandle& h) { return view_of(h, h.data->mesh.normals, 3); })
+      .def_prop_ro("positions", [](const MeshHandle& h) { return view_of(h, h.data->model.positions, 3); })
+      .def_prop_ro("indices", [](const MeshHandle& h) { return view_of(h, h.data->model.indices, 3); })
+      .def_prop_ro("normals", [](const MeshHandle& h) { return view_of(h, h.data->model.normals, 3); })
       .def_prop_ro("uvs",
                    [](const MeshHandle& h) {
-                     return h.data->mesh.texcoords.empty()
+                     return h.data->model.texcoords.empty()
                                 ? std::nullopt
-                                : std::optional(view_of(h, h.data->mesh.texcoords, 2));
+                                : std::optional(view_of(h, h.data->model.texcoords, 2));
                    })
       .def_prop_ro("triangles_dropped", [](const MeshHandle& h) { return h.data->triangles_dropped; })
       .def_prop_ro("materials", [](const MeshHandle& h) {
         nb::list materials;
-        for (const io::Material& material : h.data->materials) {
+        for (const io::Material& material : h.data->model.materials) {
           nb::dict entry;
           entry["name"] = material.name;
           entry["base_color"] = nb::make_tuple(material.base_color_factor[0], material.base_color_factor[1],
@@ -190,6 +239,12 @@ NB_MODULE(_clraster, m) {
       },
       "fov_y_degrees"_a, "aspect"_a, "near"_a, "far"_a, "out"_a);
 
+  nb::class_<ProgramHandle>(m, "Program")
+      .def_prop_ro("declarations", [](const ProgramHandle& p) { return declarations(*p.program); })
+      .def_prop_ro("file_name", [](const ProgramHandle& p) { return p.program->file_name(); });
+  nb::class_<TextureHandle>(m, "Texture");
+  m.def("read_program_file", &Program::read_source, "path"_a);
+
   nb::class_<Renderer>(m, "Context")
       .def(nb::init<int, std::size_t>(), "device"_a, "memory_cap"_a, nb::call_guard<nb::gil_scoped_release>())
       .def_prop_ro("device", &Renderer::device)
@@ -197,26 +252,90 @@ NB_MODULE(_clraster, m) {
           "render",
           [](Renderer& renderer, const MeshHandle& mesh, In<float, nb::shape<-1, 4, 4>> views,
              In<float, nb::shape<4, 4>> projection, const std::string& shading, std::array<float, 2> depth_range,
-             Out<std::uint8_t, nb::shape<-1, -1, -1, 4>> out) {
+             Out<std::uint8_t, nb::shape<-1, -1, -1, 4>> out, std::optional<nb::callable> progress) {
             const io::BuiltinShading mode = builtin_shading(shading);
             const std::vector<Mat4> view_matrices = column_major(views);
             const Mat4 projection_matrix = column_major(projection.data());
             const Pictures pictures = pictures_of(out.shape(0), int(out.shape(2)), int(out.shape(1)));
+            const Progress report = with_gil(std::move(progress));
             nb::gil_scoped_release release;
-            return renderer.render(mesh.data, view_matrices, projection_matrix, mode, depth_range, pictures, out.data());
+            return renderer.render(mesh.data, view_matrices, projection_matrix, mode, depth_range, pictures, out.data(),
+                                   report);
           },
-          "mesh"_a, "views"_a, "projection"_a, "shading"_a, "depth_range"_a, "out"_a)
+          "mesh"_a, "views"_a, "projection"_a, "shading"_a, "depth_range"_a, "out"_a, "progress"_a.none())
+      .def(
+          "render_program",
+          [](Renderer& renderer, const MeshHandle& mesh, In<float, nb::shape<-1, 4, 4>> views,
+             In<float, nb::shape<4, 4>> projection, const ProgramHandle& program,
+             const std::vector<std::tuple<std::string, nb::bytes, bool>>& uniforms,
+             const std::vector<std::pair<std::string, TextureHandle>>& textures,
+             Out<std::uint8_t, nb::shape<-1, -1, -1, 4>> out, std::optional<nb::callable> progress) {
+            OwnValues own;
+            for (const auto& [name, bytes, per_view] : uniforms) {
+              const auto* first = static_cast<const std::byte*>(bytes.data());
+              own.uniforms.push_back({name, std::vector<std::byte>(first, first + bytes.size()), per_view});
+            }
+            for (const auto& [name, handle] : textures) own.textures.emplace_back(name, handle.texture);
+            const std::vector<Mat4> view_matrices = column_major(views);
+            const Mat4 projection_matrix = column_major(projection.data());
+            const Pictures pictures = pictures_of(out.shape(0), int(out.shape(2)), int(out.shape(1)));
+            const Progress report = with_gil(std::move(progress));
+            std::vector<std::string> warnings;
+            nb::gil_scoped_release release;
+            const std::uint64_t dropped = renderer.render(mesh.data, view_matrices, projection_matrix, program.program,
+                                                          own, pictures, out.data(), report, warnings);
+            return std::make_pair(dropped, warnings);
+          },
+          "mesh"_a, "views"_a, "projection"_a, "program"_a, "uniforms"_a, "textures"_a, "out"_a, "progress"_a.none())
+      .def(
+          "compile",
+          [](Renderer& renderer, const std::string& source, const std::string& file_name) {
+            return ProgramHandle{renderer.compile(source, file_name)};
+          },
+          "source"_a, "file_name"_a, nb::call_guard<nb::gil_scoped_release>())
+      .def(
+          "material_program", [](Renderer& renderer) { return ProgramHandle{renderer.material_program()}; },
+          nb::call_guard<nb::gil_scoped_release>())
+      .def(
+          "texture",
+          [](Renderer& renderer, nb::ndarray<nb::ro, nb::c_contig, nb::device::cpu, nb::ndim<3>> image) {
+            const bool floats = image.dtype() == nb::dtype<float>();
+            const Format format = texture_format(image.shape(2), floats);
+            const auto* texels = static_cast<const std::byte*>(image.data());
+            const std::span<const std::byte> bytes(texels, image.nbytes());
+            nb::gil_scoped_release release;
+            return TextureHandle{renderer.texture(int(image.shape(1)), int(image.shape(0)), format, bytes)};
+          },
+          "image"_a)
       .def(
           "rasterize",
           [](Renderer& renderer, const MeshHandle& mesh, In<float, nb::shape<-1, 4, 4>> views,
              In<float, nb::shape<4, 4>> projection, Out<std::int32_t, nb::shape<-1, -1, -1>> triangles,
-             Out<float, nb::shape<-1, -1, -1, 2>> barycentrics, Out<float, nb::shape<-1, -1, -1>> depths) {
+             Out<float, nb::shape<-1, -1, -1, 2>> barycentrics, Out<float, nb::shape<-1, -1, -1>> depths,
+             std::optional<nb::callable> progress) {
             const std::vector<Mat4> view_matrices = column_major(views);
             const Mat4 projection_matrix = column_major(projection.data());
             const Pictures pictures = pictures_of(triangles.shape(0), int(triangles.shape(2)), int(triangles.shape(1)));
+            const Progress report = with_gil(std::move(progress));
             nb::gil_scoped_release release;
-            return renderer.rasterize(mesh.data, view_matrices, projection_matrix, pictures, triangles.data(),
-                                      barycentrics.data(), depths.data());
+            return renderer.rasterize(mesh.data, view_matrices, projection_matrix, pictures,
+                                      {triangles.data(), barycentrics.data(), depths.data()}, report);
           },
-          "mesh"_a, "views"_a, "projection"_a, "triangles"_a, "barycentrics"_a, "depths"_a);
+          "mesh"_a, "views"_a, "projection"_a, "triangles"_a, "barycentrics"_a, "depths"_a, "progress"_a.none())
+      .def(
+          "rasterize_clip",
+          [](Renderer& renderer, In<float, nb::shape<-1, -1, 4>> positions, In<std::uint32_t, nb::shape<-1, 3>> indices,
+             Out<std::int32_t, nb::shape<-1, -1, -1>> triangles, Out<float, nb::shape<-1, -1, -1, 2>> barycentrics,
+             Out<float, nb::shape<-1, -1, -1>> depths, std::optional<nb::callable> progress) {
+            const Pictures pictures = pictures_of(triangles.shape(0), int(triangles.shape(2)), int(triangles.shape(1)));
+            if (positions.shape(0) != pictures.count) throw InvalidArgument("one set of clip positions per picture");
+            const std::size_t vertex_count = positions.shape(1);
+            check_indices(std::span(indices.data(), indices.size()), vertex_count);
+            const Progress report = with_gil(std::move(progress));
+            nb::gil_scoped_release release;
+            return renderer.rasterize(std::span(positions.data(), positions.size()), vertex_count,
+                                      std::span(indices.data(), indices.size()), pictures,
+                                      {triangles.data(), barycentrics.data(), depths.data()}, report);
+          },
+          "positions"_a, "indices"_a, "triangles"_a, "barycentrics"_a, "depths"_a, "progress"_a.none());
 }

@@ -1,17 +1,19 @@
 /* visibility.cl: the visibility buffer of clraster.Context.rasterize. Output 0 is the triangle
  * drawn at the pixel (its index in the draw), output 1 its perspective-correct barycentrics; the
- * depth attachment keeps its window depth. Drawn once per view, each in its layer's viewport. */
+ * depth attachment keeps its window depth. Drawn once per view, each in its layer's viewport.
+ * Positions are homogeneous: a mesh's with w = 1 and its camera's mvp, or clip positions given
+ * with the identity. */
 
-clr_attribute(float3, position)
+clr_attribute(float4, position)
 clr_uniform(float16, mvp)      /* projection * model_view, as the built-in programs take it */
 clr_uniform(float4, viewport)  /* the layer's origin in the attachments, then 2 / its width and height */
-clr_buffer(const float, positions)
+clr_buffer(const float, positions)  /* the attribute's, four floats a vertex */
 clr_buffer(const uint, corners) /* the draw's indices, three per triangle */
 clr_output(int4, triangle)
 clr_output(float4, barycentric)
 
 void vertex(clr_vertex* v) {
-  v->position = clr_mul(v->uniforms->mvp, (float4)(v->in.position, 1.0f));
+  v->position = clr_mul(v->uniforms->mvp, v->in.position);
 }
 
 /* The corners' weights from their clip positions, not f->barycentric: those weigh the corners of
@@ -22,7 +24,7 @@ void fragment_span(clr_span_fragment* f) {
   float3 clip[3];
   for (int i = 0; i < 3; ++i) {
     const uint vertex = f->buffers.corners[3 * f->primitive_id + i];
-    const float4 p = clr_mul(f->uniforms->mvp, (float4)(vload3(vertex, f->buffers.positions), 1.0f));
+    const float4 p = clr_mul(f->uniforms->mvp, vload4(vertex, f->buffers.positions));
     clip[i] = (float3)(p.x, p.y, p.w);
   }
   const float3 n0 = cross(clip[1], clip[2]);

@@ -51,3 +51,21 @@ def test_a_batch_larger_than_a_framebuffer_keeps_its_order(ctx):
     np.testing.assert_array_equal(pictures[1::2, ..., 0], 0)
     vb = ctx.rasterize(clraster.Mesh(QUAD, QUAD_INDICES), views[-6:], projection, size=(4, 4))
     assert (vb.triangle[0::2] >= 0).all() and (vb.triangle[1::2] == -1).all()
+
+
+def test_progress_bars_over_chunks(ctx, capsys):
+    # Pictures 10000 pixels wide take a framebuffer each (two side by side would pass 16384): three
+    # views, three chunks.
+    mesh = clraster.Mesh(QUAD, QUAD_INDICES)
+    views = clraster.look_at(np.float32([[0, 0, 0.5]] * 3), (0, 0, 0))
+    projection = clraster.perspective(90, 1, 0.1, 10)
+    ctx.render(mesh, views, projection, size=(10000, 1), progress=True)
+    ctx.rasterize(mesh, views, projection, size=(10000, 1), progress=True)
+    shown = capsys.readouterr().err
+    assert "clraster render" in shown and "clraster rasterize" in shown and "3/3" in shown, shown
+    # Off by default when stderr is not a terminal (as under pytest), and with progress=False.
+    ctx.render(mesh, views, projection, size=(10000, 1))
+    ctx.render(mesh, views, projection, size=(10000, 1), progress=False)
+    # One chunk shows none.
+    ctx.render(mesh, views, projection, size=(8, 8), progress=True)
+    assert capsys.readouterr().err == ""

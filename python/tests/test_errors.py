@@ -49,7 +49,7 @@ def test_nan_vertices_are_dropped_with_a_warning(ctx):
 
 
 @pytest.mark.parametrize("arguments, message", [
-    (dict(shading="phong"), "shading must be one of normal, lambert, depth, overdraw, got 'phong'"),
+    (dict(shading="phong"), "shading must be one of normal, lambert, depth, overdraw, material or a clraster.Program, got 'phong'"),
     (dict(size=(0, 32)), "size 0x32 is out of range"),
     (dict(size=(32,)), r"size must be \(width, height\)"),
     (dict(view=np.zeros((2, 3, 4))), r"view must have shape \(4, 4\) or \(B, 4, 4\)"),

@@ -121,3 +121,39 @@ def test_triangle_ids_count_the_triangles_left_out(ctx, scene):
     triangle, weights, _ = expected_visibility(views[0])
     clear = (weights.min(axis=-1) > 1e-3) | (triangle == -1)
     np.testing.assert_array_equal(vb.triangle[0][clear], np.where(triangle >= 0, triangle + 1, -1)[clear])
+
+
+def test_clip_positions_rasterize_as_the_mesh_does(ctx):
+    # nvdiffrast's form: clip-space positions per view and the triangles. The positions are
+    # projected here, in float64, the pipeline projects its own in float: a few edge pixels may
+    # fall to the other side.
+    mesh = clraster.Mesh(POSITIONS, INDICES)
+    views = clraster.look_at(EYES, (0, 0, 0))
+    homogeneous = np.concatenate([POSITIONS, np.ones((len(POSITIONS), 1), np.float32)], axis=1).astype(np.float64)
+    clip = np.einsum("bij,nj->bni", PROJECTION.astype(np.float64) @ views, homogeneous).astype(np.float32)
+    by_mesh = ctx.rasterize(mesh, views, PROJECTION, size=(WIDTH, HEIGHT))
+    by_clip = ctx.rasterize(clip, INDICES, size=(WIDTH, HEIGHT))
+    same = by_mesh.triangle == by_clip.triangle
+    assert same.mean() > 0.998 and (by_clip.triangle >= 0).sum() > WIDTH * HEIGHT
+    np.testing.assert_allclose(by_clip.barycentric[same], by_mesh.barycentric[same], atol=1e-4)
+    np.testing.assert_allclose(by_clip.depth[same], by_mesh.depth[same], atol=1e-5)
+    # Derivatives from the clip positions, as from the mesh and its cameras.
+    uv = POSITIONS[:, :2]
+    _, from_mesh = clraster.interpolate(uv, by_mesh, mesh, diff_attrs="all")
+    _, from_clip = clraster.interpolate(uv, by_clip, INDICES, diff_attrs="all")
+    np.testing.assert_allclose(from_clip[same], from_mesh[same], rtol=1e-3, atol=1e-6)
+    # One set of positions: one picture.
+    single = ctx.rasterize(clip[1], INDICES, size=(WIDTH, HEIGHT))
+    np.testing.assert_array_equal(single.triangle[0], by_clip.triangle[1])
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (dict(mesh=np.zeros((1, 3, 4)), view=INDICES[:1]), "clip positions must be float32, got float64"),
+    (dict(mesh=np.zeros((1, 3, 3), np.float32), view=INDICES[:1]), r"clip positions must have shape \(N, N, 4\)"),
+    (dict(mesh=np.zeros((1, 3, 4), np.float32), view=INDICES[1:2]), "indices: triangle 0 has index 3, out of range "
+     "for 3 vertices"),
+    (dict(mesh=np.zeros((1, 3, 4), np.float32), view=INDICES[:1], projection=PROJECTION), "without a projection"),
+])
+def test_bad_clip_positions(ctx, arguments, message):
+    with pytest.raises(ValueError, match=message):
+        ctx.rasterize(**arguments, size=(8, 8))

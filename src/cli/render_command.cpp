@@ -1,5 +1,6 @@
 #include "cli/commands.hpp"
 #include "cli/demo_scene.hpp"
+#include "frontend/gl_model_draws.hpp"
 #include "frontend/model_draws.hpp"
 #include "io/image_io.hpp"
 #include "io/model_loader.hpp"
@@ -120,13 +121,15 @@ Rendering render_with_clraster(const RenderOptions& options, const io::Model& mo
   const IndexBuffer indices(context, model.indices);
   Framebuffer framebuffer(context, options.width, options.height);
 
+  std::optional<Program> compiled;
   std::optional<frontend::ClrasterModelDraws> material_draws;
   std::vector<DrawCall> calls;
   if (program) {
     std::vector<std::string> warnings;
-    material_draws.emplace(context, Program(context, program->text, program->file_name), model,
-                           frontend::view_inputs(camera, options.width, options.height), warnings);
+    material_draws.emplace(context, compiled.emplace(context, program->text, program->file_name), model, warnings);
     print_warnings(warnings);
+    const frontend::ProgramInputs view = frontend::view_inputs(camera, options.width, options.height);
+    material_draws->bind({&view, 1});
     calls = material_draws->calls(vertices, indices, state);
   } else {
     DrawCall& call = calls.emplace_back();

@@ -6,12 +6,23 @@
 #include "clraster/clraster.hpp"
 #include "io/model_loader.hpp"
 
+#include <array>
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace clraster::frontend {
+
+// The texel of the texture that parts without an image are drawn with: sampled as 1, it leaves the
+// base colour factor as it is.
+inline constexpr std::array<std::byte, 4> kWhiteTexel{std::byte{255}, std::byte{255}, std::byte{255}, std::byte{255}};
+
+// The model's texture coordinates, or (0, 0) for every vertex when it has none: the attribute uv.
+inline std::vector<float> texcoords_or_zeros(const io::Model& model) {
+  return model.texcoords.empty() ? std::vector<float>(2 * model.vertex_count(), 0.0f) : model.texcoords;
+}
 
 // What errors and warnings call a material's image: its file, or its reference in the model file.
 inline std::string image_name(const io::MaterialTexture& image) {

@@ -1,92 +1,13 @@
 #include "frontend/model_draws.hpp"
 
-#include "io/image_io.hpp"
-
-#include <algorithm>
-#include <cstring>
-
 namespace clraster::frontend {
-namespace {
 
-// The texel of the texture that parts without an image are drawn with: sampled as 1, it leaves the
-// base colour factor as it is.
-constexpr std::array<std::byte, 4> kWhiteTexel{std::byte{255}, std::byte{255}, std::byte{255}, std::byte{255}};
-
-// The model's texture coordinates, or (0, 0) for every vertex when it has none.
-std::vector<float> texcoords_or_zeros(const io::Model& model) {
-  return model.texcoords.empty() ? std::vector<float>(2 * model.vertex_count(), 0.0f) : model.texcoords;
-}
-
-// The uniforms of the GLSL material program that stay the same for every part.
-constexpr const char* kGlViewUniforms[] = {"mvp", "normal_matrix", "light_direction"};
-
-// The model's positions, normals, texture coordinates (or zeros) and indices, uploaded once for the
-// GLSL material program.
-oracle::GlVertexInput gl_vertex_input(const oracle::GlProgram& program, const io::Model& model) {
-  const std::vector<float> uvs = texcoords_or_zeros(model);
-  const oracle::GlAttribute attributes[] = {
-      {kPositionAttribute, std::as_bytes(std::span(model.positions)), AttributeType::Float3},
-      {kNormalAttribute, std::as_bytes(std::span(model.normals)), AttributeType::Float3},
-      {kUvAttribute, std::as_bytes(std::span(uvs)), AttributeType::Float2}};
-  return oracle::GlVertexInput(program, attributes, std::span<const std::uint32_t>(model.indices));
-}
-
-// A picture's texels as a texture holds them: the bottom row (t = 0) first.
-std::vector<std::byte> bottom_row_first(const Image& image) {
-  const std::size_t row_bytes = std::size_t(image.width) * 4;
-  std::vector<std::byte> texels(image.rgba.size());
-  for (int row = 0; row < image.height; ++row) {
-    std::memcpy(texels.data() + std::size_t(image.height - 1 - row) * row_bytes,
-                image.rgba.data() + std::size_t(row) * row_bytes, row_bytes);
-  }
-  return texels;
-}
-
-}  // namespace
-
-// Keep in step with programs/material.cl (tests/test_cli_programs.cpp compares what they draw).
-const char* const kGlMaterialVertexShader = R"(#version 450 core
-in vec3 position;
-in vec3 normal;
-in vec2 uv;
-uniform mat4 mvp;
-uniform mat4 normal_matrix;
-out vec3 eye_normal;
-out vec2 texcoord;
-
-void main() {
-  gl_Position = mvp * vec4(position, 1.0);
-  eye_normal = mat3(normal_matrix) * normal;
-  texcoord = uv;
-}
-)";
-
-const char* const kGlMaterialFragmentShader = R"(#version 450 core
-in vec3 eye_normal;
-in vec2 texcoord;
-uniform vec4 base_color;
-uniform vec3 light_direction;
-uniform sampler2D base_color_texture;
-layout(location = 0) out vec4 color;
-
-const float AMBIENT = 0.2;
-
-void main() {
-  vec4 base = texture(base_color_texture, texcoord) * base_color;
-  float length_of_normal = length(eye_normal);
-  float diffuse = length_of_normal > 0.0 ? abs(dot(eye_normal / length_of_normal, light_direction)) : 0.0;
-  color = vec4(base.rgb * (AMBIENT + (1.0 - AMBIENT) * diffuse), 1.0);
-}
-)";
-
-// ---- clraster -----------------------------------------------------------------------------------
-
-
-ClrasterModelDraws::ClrasterModelDraws(Context& context, Program program, const io::Model& model,
-                                       const ProgramInputs& view, std::vector<std::string>& warnings)
-    : program_(std::move(program)), parts_(model.parts) {
-  if (declares_attribute(program_.interface(), kUvAttribute)) uvs_.emplace(context, texcoords_or_zeros(model));
-  if (declares_base_color_texture(program_.interface())) {
+ClrasterModelDraws::ClrasterModelDraws(Context& context, const Program& program, const io::Model& model,
+                                       std::vector<std::string>& warnings)
+    : program_(&program), parts_(model.parts) {
+  for (const io::Material& material : model.materials) base_colors_.push_back(material.base_color_factor);
+  if (declares_attribute(program_->interface(), kUvAttribute)) uvs_.emplace(context, texcoords_or_zeros(model));
+  if (declares_base_color_texture(program_->interface())) {
     // RGBA8 (srgb false) and flipped vertically, as MaterialTextures::Loader says.
     textures_.emplace(
         model, Texture(context, 1, 1, Format::RGBA8, kWhiteTexel, false),
@@ -96,14 +17,22 @@ ClrasterModelDraws::ClrasterModelDraws(Context& context, Program program, const 
         },
         warnings);
   }
+}
+
+void ClrasterModelDraws::bind(std::span<const ProgramInputs> views, std::span<const Bindings> own) {
+  view_count_ = views.size();
+  bindings_.clear();
+  bindings_.reserve(parts_.size() * views.size());  // the draws point into it
   for (const io::ModelPart& part : parts_) {
-    ProgramInputs inputs = view;
-    inputs.base_color = model.materials.at(part.material).base_color_factor;
-    Bindings& bindings = bindings_.emplace_back(program_);
-    for (const ProgramVariable& uniform : program_.interface().uniforms) {
-      bindings.set_bytes(uniform.name, std::as_bytes(inputs.uniform(uniform.name)));
+    for (std::size_t view = 0; view < views.size(); ++view) {
+      ProgramInputs inputs = views[view];
+      inputs.base_color = base_colors_.at(part.material);
+      Bindings& bindings = bindings_.emplace_back(own.empty() ? Bindings(*program_) : own[view]);
+      for (const ProgramVariable& uniform : program_->interface().uniforms) {
+        if (provides_uniform(uniform.name)) bindings.set_bytes(uniform.name, std::as_bytes(inputs.uniform(uniform.name)));
+      }
+      if (textures_) bindings.set_texture(kBaseColorTexture, (*textures_)[part.material], Sampler{});
     }
-    if (textures_) bindings.set_texture(kBaseColorTexture, (*textures_)[part.material], Sampler{});
   }
 }
 
@@ -117,53 +46,16 @@ std::vector<DrawCall> ClrasterModelDraws::calls(const VertexBuffer& vertices, co
     call.first = parts_[i].first_index;
     call.count = parts_[i].index_count;
     call.state = state;
-    call.program = &program_;
-    call.bindings = &bindings_[i];
+    call.program = program_;
+    call.bindings = &bindings_.at(i * view_count_);
+    if (view_count_ > 1) {
+      for (std::size_t view = 0; view < view_count_; ++view) {
+        call.views.push_back({kIdentity, kIdentity, &bindings_[i * view_count_ + view]});
+      }
+    }
     if (uvs_) call.attributes.push_back({kUvAttribute, &*uvs_, AttributeType::Float2});
   }
   return calls;
-}
-
-// ---- OpenGL -------------------------------------------------------------------------------------
-
-GlMaterialDraws::GlMaterialDraws(const io::Model& model, const ProgramInputs& view, std::vector<std::string>& warnings)
-    : model_(model),
-      program_(kGlMaterialVertexShader, kGlMaterialFragmentShader, "material program (GLSL)"),
-      vertex_input_(gl_vertex_input(program_, model)),
-      textures_(
-          model, oracle::GlTexture(1, 1, Format::RGBA8, kWhiteTexel, false),
-          [](const io::MaterialTexture& image) {
-            const Image decoded =
-                image.embedded() ? io::decode_image(image.encoded, image_name(image)) : io::load_png(image.file);
-            return oracle::GlTexture(decoded.width, decoded.height, Format::RGBA8, bottom_row_first(decoded), true);
-          },
-          warnings) {
-  for (const char* name : kGlViewUniforms) program_.set(name, view.uniform(name));
-}
-
-void GlMaterialDraws::draw(oracle::GlRenderer& target, const DrawState& state) {
-  for (const io::ModelPart& part : model_.parts) {
-    program_.set("base_color", std::span<const float>(model_.materials.at(part.material).base_color_factor));
-    program_.set_texture(kBaseColorTexture, textures_[part.material], Sampler{});
-    oracle::GlDrawCall call;
-    call.program = &program_;
-    call.vertex_input = &vertex_input_;
-    call.first = part.first_index;
-    call.count = part.index_count;
-    call.state = state;
-    target.draw(call);
-  }
-}
-
-void draw_gl_frame(oracle::GlRenderer& target, const DrawState& state, const std::optional<oracle::GlMesh>& mesh,
-                   std::optional<GlMaterialDraws>& material_draws) {
-  target.clear({0, 0, 0, 1}, 1.0f);
-  if (material_draws) {
-    material_draws->draw(target, state);
-  } else {
-    target.draw(mesh.value(), 0, kAllElements, state);
-  }
-  target.finish();
 }
 
 }  // namespace clraster::frontend

@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 namespace clraster::frontend {
 namespace {
@@ -38,7 +39,7 @@ constexpr ProvidedUniform kUniforms[] = {
 };
 
 // "attributes position (float3), ...; uniforms mvp (float16), ...; texture base_color_texture; one
-// float4 output": everything the command line provides, for error messages.
+// float4 output": everything the contract provides, for error messages.
 std::string provided_names() {
   std::string text = "attributes ";
   for (const ProvidedAttribute& a : kAttributes) text += std::string(a.name) + " (" + a.type + "), ";
@@ -54,19 +55,19 @@ std::string declared_at(const std::string& file_name, const ProgramVariable& var
 
 // Checks one declaration against the contract's name of that kind: `provided_type` is null when the
 // contract has no such name (textures have the type "texture").
-void check_declaration(const std::string& program, const char* kind, const ProgramVariable& declared,
-                       const char* provided_type) {
+void check_declaration(const std::string& program, const std::string& host, const char* kind,
+                       const ProgramVariable& declared, const char* provided_type) {
   if (provided_type == nullptr) {
-    throw InvalidArgument(declared_at(program, declared) + kind + " '" + declared.name +
-                          "', which the command line does not provide (it provides " + provided_names() + ")");
+    throw InvalidArgument(declared_at(program, declared) + kind + " '" + declared.name + "', which " + host +
+                          " does not provide (it provides " + provided_names() + ")");
   }
   if (declared.array_size != 0) {
     throw InvalidArgument(declared_at(program, declared) + kind + " '" + declared.name + "' as an array of " +
-                          std::to_string(declared.array_size) + "; the command line provides one " + provided_type);
+                          std::to_string(declared.array_size) + "; " + host + " provides one " + provided_type);
   }
   if (declared.type != provided_type) {
     throw InvalidArgument(declared_at(program, declared) + kind + " '" + declared.name + "' as " + declared.type +
-                          "; the command line provides it as " + provided_type);
+                          "; " + host + " provides it as " + provided_type);
   }
 }
 
@@ -82,12 +83,18 @@ std::span<const float> ProgramInputs::uniform(std::string_view name) const {
   for (const ProvidedUniform& u : kUniforms) {
     if (u.name == name) return u.value(*this);
   }
-  throw std::logic_error("the command line provides no uniform '" + std::string(name) + "'");
+  throw std::logic_error("the contract has no uniform '" + std::string(name) + "'");
 }
 
 ProgramInputs view_inputs(const io::Camera& camera, int width, int height) {
-  const glm::dmat4 view(io::view_matrix(camera));
-  const glm::dmat4 projection(io::projection_matrix(camera, static_cast<float>(width) / static_cast<float>(height)));
+  return view_inputs(io::to_mat4(io::view_matrix(camera)),
+                     io::to_mat4(io::projection_matrix(camera, static_cast<float>(width) / static_cast<float>(height))),
+                     width, height);
+}
+
+ProgramInputs view_inputs(const Mat4& model_view, const Mat4& projection_matrix, int width, int height) {
+  const glm::dmat4 view(glm::make_mat4(model_view.data()));
+  const glm::dmat4 projection(glm::make_mat4(projection_matrix.data()));
   ProgramInputs inputs;
   inputs.mvp = io::to_mat4(glm::mat4(projection * view));
   inputs.model_view = io::to_mat4(glm::mat4(view));
@@ -100,29 +107,37 @@ ProgramInputs view_inputs(const io::Camera& camera, int width, int height) {
 
 ProgramSource read_program_file(const std::string& path) { return {Program::read_source(path), path}; }
 
-void check_contract(const ProgramSource& source) {
+void check_contract(const ProgramSource& source, const ProgramHost& host) {
   const ProgramInterface interface = Program::read_interface(source.text, source.file_name);
   const std::string& program = source.file_name;
   for (const ProgramVariable& attribute : interface.attributes) {
-    check_declaration(program, "attribute", attribute, provided_type(kAttributes, attribute.name));
+    check_declaration(program, host.name, "attribute", attribute, provided_type(kAttributes, attribute.name));
   }
   for (const ProgramVariable& uniform : interface.uniforms) {
-    check_declaration(program, "uniform", uniform, provided_type(kUniforms, uniform.name));
+    const char* type = provided_type(kUniforms, uniform.name);
+    if (type != nullptr || !host.binds_users_own) check_declaration(program, host.name, "uniform", uniform, type);
   }
   for (const ProgramVariable& texture : interface.textures) {
-    check_declaration(program, "texture", texture, texture.name == kBaseColorTexture ? "texture" : nullptr);
+    const bool provided = texture.name == kBaseColorTexture;
+    if (provided || !host.binds_users_own) {
+      check_declaration(program, host.name, "texture", texture, provided ? "texture" : nullptr);
+    }
   }
-  for (const ProgramVariable& buffer : interface.buffers) check_declaration(program, "buffer", buffer, nullptr);
+  for (const ProgramVariable& buffer : interface.buffers) {
+    check_declaration(program, host.name, "buffer", buffer, nullptr);
+  }
   if (interface.outputs.size() != 1) {
     throw InvalidArgument("program " + program + " declares " + std::to_string(interface.outputs.size()) +
-                          " outputs; the command line draws exactly one, a float4: the picture");
+                          " outputs; " + host.name + " draws exactly one, a float4: the picture");
   }
   const ProgramVariable& output = interface.outputs.front();
   if (output.type != "float4") {
     throw InvalidArgument(declared_at(program, output) + "output '" + output.name + "' as " + output.type +
-                          "; the command line draws one float4 output: the picture");
+                          "; " + host.name + " draws one float4 output: the picture");
   }
 }
+
+bool provides_uniform(std::string_view name) { return provided_type(kUniforms, std::string(name)) != nullptr; }
 
 bool declares_base_color_texture(const ProgramInterface& interface) {
   const auto& textures = interface.textures;

@@ -1,6 +1,7 @@
-// What the command line binds, by name, to the program it draws a model with: the built-in material
-// program (programs/material.cl, `--shading material`) or a `--program` file. docs/cli.md documents
-// this contract for users; the table behind it is in program_contract.cpp.
+// What the front ends bind, by name, to the program they draw a model with: the built-in material
+// program (programs/material.cl, `--shading material`, the Python package's shading="material")
+// or a program of the user's (`--program`, clraster.Program). docs/cli.md documents this contract
+// for users; the table behind it is in program_contract.cpp.
 #pragma once
 
 #include "clraster/clraster.hpp"
@@ -41,6 +42,9 @@ struct ProgramInputs {
 // The view's inputs for a width x height picture of `camera`, with a white base colour. Matrices are
 // computed in double and rounded once to float.
 ProgramInputs view_inputs(const io::Camera& camera, int width, int height);
+// The same from the camera's matrices (column-major), as front ends that take matrices have them:
+// the same inputs when they are io::view_matrix and io::projection_matrix of the camera.
+ProgramInputs view_inputs(const Mat4& model_view, const Mat4& projection, int width, int height);
 
 // A program's source, and the file name its errors use.
 struct ProgramSource {
@@ -51,13 +55,26 @@ struct ProgramSource {
 // The source of a --program file. Throws InvalidArgument naming the file when it cannot be read.
 ProgramSource read_program_file(const std::string& path);
 
-// Reads the program's declarations (without compiling it, so that a program the command line cannot
-// serve is refused at once) and throws InvalidArgument, naming the file and the declaration's line,
-// for the first one the command line does not serve: an attribute, uniform or texture it does not
-// provide (the message lists what it provides), one declared with another type than the contract's
-// or as an array, any buffer, and outputs other than exactly one float4 output (the picture). A
-// malformed declaration throws InvalidArgument too, as Program's constructor would.
-void check_contract(const ProgramSource& program);
+// Who draws with the program, as check_contract's messages name it, and whether it binds uniforms
+// and textures of the user's own besides the contract's.
+struct ProgramHost {
+  const char* name;
+  bool binds_users_own;
+};
+inline constexpr ProgramHost kCommandLine{"the command line", false};
+inline constexpr ProgramHost kPythonPackage{"clraster", true};  // clraster.Program's own uniforms and textures
+
+// Reads the program's declarations (without compiling it, so that a program the host cannot serve
+// is refused at once) and throws InvalidArgument, naming the file and the declaration's line, for
+// the first one the host does not serve: an attribute it does not provide, a uniform or texture it
+// does not provide unless it binds the user's own (the message lists what it provides), one of the
+// contract's names declared with another type than the contract's or as an array, any buffer, and
+// outputs other than exactly one float4 output (the picture). A malformed declaration throws
+// InvalidArgument too, as Program's constructor would.
+void check_contract(const ProgramSource& program, const ProgramHost& host = kCommandLine);
+
+// Whether `name` is one of the contract's uniforms (those ProgramInputs::uniform gives).
+bool provides_uniform(std::string_view name);
 
 // Whether a program declares the base colour texture (then the command line loads the materials'
 // textures).
