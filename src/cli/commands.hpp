@@ -2,6 +2,7 @@
 #pragma once
 
 #include "io/camera.hpp"
+#include "io/isolated_loader.hpp"
 
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@ enum class ShadingOption { Normal, Lambert, Depth, Overdraw, Material };
 
 struct RenderOptions {
   std::string model;  // empty: the built-in demo scene
+  io::ModelLoadLimits model_limits;  // of the process the model file is loaded in
   std::string output;
   int width = 1280;
   int height = 720;

@@ -46,7 +46,7 @@ namespace {
 constexpr unsigned kPostProcessing = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure;
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
-  throw InvalidArgument("cannot load model '" + path + "': " + reason);
+  throw InvalidArgument(describe_load_error(path, reason));
 }
 
 // assimp's messages can span several lines and be long; ours are one line.
@@ -1091,6 +1091,10 @@ Material material_of(const aiScene& scene, unsigned scene_index, std::size_t ind
 }
 
 }  // namespace
+
+std::string describe_load_error(const std::string& path, const std::string& reason) {
+  return "cannot load model '" + path + "': " + reason;
+}
 
 std::string describe_triangles_dropped(std::uint64_t count) {
   return std::to_string(count) + (count == 1 ? " triangle" : " triangles") +

@@ -70,6 +70,9 @@ struct Model : Mesh {
 // Model::triangles_dropped counts, for warnings.
 std::string describe_triangles_dropped(std::uint64_t count);
 
+// "cannot load model 'PATH': REASON": how the errors of a model load read.
+std::string describe_load_error(const std::string& path, const std::string& reason);
+
 // Loads the triangles of a model file in any format assimp reads (OBJ, glTF 2.0 .gltf/.glb, PLY,
 // STL, OFF, ...) into one triangle list in the file's object space:
 // - each mesh appears once per node that instances it, moved by the node's accumulated transform;
