@@ -2,6 +2,7 @@
 
 #include "io/format.hpp"
 
+#include <malloc.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
@@ -26,18 +27,6 @@ namespace {
 // in every one of their main()s; a forked child also starts with the parser already in memory.
 // The price is the precondition in the header (no other threads at the fork), which the command
 // line meets by loading before it creates any OpenCL context.
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 // How the child ends, besides by a signal: 0 once it passed back a model or load_model's error.
 constexpr int kExitOutOfMemory = 3;
@@ -227,7 +216,7 @@ bool well_formed(const Model& model) {
 // ---- The child ------------------------------------------------------------------------------------
 
 [[noreturn]] void load_in_child(const std::string& path, pid_t parent, int result_fd, int messages_fd,
-                                std::optional<rlim_t> address_space) {
+                                std::optional<rlim_t> data_limit) {
   // Killed with its parent; a crash is the parent's to report, not a core file's.
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != parent) ::_exit(kExitCannotPassBack);
@@ -236,9 +225,12 @@ bool well_formed(const Model& model) {
   ::setrlimit(RLIMIT_CORE, &no_core);
   // What a parser says as it dies (assimp's assertions) goes into the parent's message.
   ::dup2(messages_fd, STDERR_FILENO);
-  if (address_space) {
-    const rlimit limit{*address_space, *address_space};
-    ::setrlimit(RLIMIT_AS, &limit);
+  // RLIMIT_DATA rather than RLIMIT_AS: it also bounds malloc's arenas of the caller's former
+  // threads, which grow within address space they reserved already, and it leaves out the mapped
+  // model file (read-only).
+  if (data_limit) {
+    const rlimit limit{*data_limit, *data_limit};
+    ::setrlimit(RLIMIT_DATA, &limit);
   }
   std::set_new_handler([] { ::_exit(kExitOutOfMemory); });
 
@@ -261,12 +253,18 @@ bool well_formed(const Model& model) {
 
 // ---- The parent -----------------------------------------------------------------------------------
 
-// The process's address space now (Linux's VmSize), which the child starts with.
-std::size_t address_space_in_use() {
-  std::ifstream statm("/proc/self/statm");
-  std::size_t pages = 0;
-  statm >> pages;
-  return pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+// The memory the child starts with, as its limit counts memory: the process's private writable
+// mappings (Linux's VmData, what RLIMIT_DATA bounds: heaps, anonymous mappings, malloc's arenas as
+// they grow), less the heap that malloc holds free, which the child reuses before it maps more and
+// which its limit counts too (glibc's count of free bytes in its arenas).
+std::size_t data_in_use() {
+  std::ifstream status("/proc/self/status");
+  std::size_t kilobytes = 0;
+  for (std::string line; std::getline(status, line);) {
+    if (line.starts_with("VmData:")) kilobytes = std::stoull(line.substr(7));
+  }
+  const std::size_t mapped = kilobytes * 1024;
+  return mapped - std::min(mapped, ::mallinfo2().fordblks);
 }
 
 struct ChildEnd {
@@ -355,13 +353,13 @@ Model load_model_isolated(const std::string& path, std::vector<std::string>& war
   const UniqueFd result(::memfd_create("clraster-model", MFD_CLOEXEC));
   const UniqueFd messages(::memfd_create("clraster-model-stderr", MFD_CLOEXEC));
   if (result.get() < 0 || messages.get() < 0) fail_system("memfd_create");
-  std::optional<rlim_t> address_space;
-  if (!kAddressSanitizer) address_space = address_space_in_use() + resolved.memory_bytes;
+  std::optional<rlim_t> data_limit;
+  if (!kBuiltWithAddressSanitizer) data_limit = data_in_use() + resolved.memory_bytes;
 
   const pid_t parent = ::getpid();
   const pid_t child = ::fork();
   if (child < 0) fail_system("fork");
-  if (child == 0) load_in_child(path, parent, result.get(), messages.get(), address_space);
+  if (child == 0) load_in_child(path, parent, result.get(), messages.get(), data_limit);
 
   const ChildEnd end = wait_for(child, resolved.time);
   const auto fail_with = [&](const std::string& reason) { throw InvalidArgument(describe_load_error(path, reason)); };

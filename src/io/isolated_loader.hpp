@@ -22,6 +22,21 @@ inline constexpr std::size_t kLoadMemoryPerFileByte = 64;
 inline constexpr std::chrono::seconds kLoadTimeFloor{20};
 inline constexpr std::chrono::seconds kLoadTimePerMiB{1};
 
+// AddressSanitizer reserves terabytes of shadow memory, which no address-space limit leaves room
+// for: in such builds the memory limit is not applied.
+#if defined(__SANITIZE_ADDRESS__)
+#define CLRASTER_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define CLRASTER_ADDRESS_SANITIZER 1
+#endif
+#endif
+#ifdef CLRASTER_ADDRESS_SANITIZER
+inline constexpr bool kBuiltWithAddressSanitizer = true;
+#else
+inline constexpr bool kBuiltWithAddressSanitizer = false;
+#endif
+
 struct ModelLoadLimits {
   // What the loading process may allocate beyond what the caller's process had; unset: the
   // default, max(kLoadMemoryFloor, kLoadMemoryPerFileByte * the file's size).
@@ -59,8 +74,11 @@ class ModelLoadLimitExceeded : public InvalidArgument {
 // The child is a fork of the calling process, so call this before the process starts threads (the
 // command line loads its model before it creates an OpenCL context): a lock that another thread
 // holds at the fork stays held in the child (glibc's malloc and stdio locks excepted), and a child
-// stuck on one ends at the time limit. Under AddressSanitizer, whose shadow memory no address-space
-// limit leaves room for, the memory limit is not applied.
+// stuck on one ends at the time limit. The child can reuse the heap the caller holds free (glibc
+// keeps what was freed for reuse): the memory limit counts it but cannot keep the child from
+// using it, so in a process that holds more free than the limit, the child can use that much. (The
+// command line loads with next to nothing free.) The memory limit is not applied under
+// AddressSanitizer.
 Model load_model_isolated(const std::string& path, std::vector<std::string>& warnings,
                           const ModelLoadLimits& limits = {});
 

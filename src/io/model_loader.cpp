@@ -521,7 +521,7 @@ void check_binary_ply_faces(const Text& text, const PlyHeader& header) {
         const auto entry = [&] { return std::string(element.name) + " " + std::to_string(i); };
         if (length < 0) fail(text.path, entry() + " has a list of negative length " + std::to_string(length));
         if (length == 0 && property.kind == PlyProperty::Kind::kVertexIndices) {
-          fail(text.path, entry() + " is a face without vertex indices");
+          fail(text.path, entry() + " has no vertex indices");
         }
         skip(static_cast<std::uint64_t>(length) * property.value_type->size);
       }
@@ -644,14 +644,54 @@ void check_glb(const Text& text) {
   }
 }
 
+// ---- OBJ material libraries, checked before assimp reads them ------------------------------------
+//
+// An OBJ file names its material libraries in "mtllib FILE" statements (the rest of the line, relative
+// to the OBJ file). assimp 5.2.5 crashes (SIGSEGV) on a texture statement (map_Kd, bump, disp, ...)
+// that comes before a library's first "newmtl", and would give it to whichever material is current
+// otherwise: such a statement belongs to no material, so it is an error.
+
+bool is_texture_statement(std::string_view word) {
+  return word.starts_with("map_") || word == "bump" || word == "disp";
+}
+
+void check_material_library(const std::string& path, const std::string& library) {
+  std::ifstream file(library, std::ios::binary);
+  if (!file) return;  // assimp reads the model without it, as it does with one that is missing
+  std::string line;
+  for (int number = 1; std::getline(file, line); ++number) {
+    const std::vector<std::string_view> words = words_of(line);
+    if (words.empty()) continue;
+    if (words[0] == "newmtl") return;
+    if (is_texture_statement(words[0])) {
+      fail(path, "material library '" + library + "' line " + std::to_string(number) + " has '" + std::string(words[0]) +
+                     "' before any 'newmtl': it belongs to no material");
+    }
+  }
+}
+
+void check_material_libraries(const Text& text) {
+  for (std::size_t at = text.all.find("mtllib"); at != std::string_view::npos; at = text.all.find("mtllib", at + 1)) {
+    const std::size_t line_start = text.all.find_last_of("\r\n", at) + 1;  // npos + 1 is 0
+    if (text.all.find_first_not_of(" \t", line_start) != at) continue;
+    const std::string_view line = text.all.substr(at, line_end(text.all.substr(at)));
+    const std::vector<std::string_view> words = words_of(line);
+    if (words.size() < 2 || words[0] != "mtllib") continue;
+    const std::string_view name = line.substr(static_cast<std::size_t>(words[1].data() - line.data()));
+    const std::string_view trimmed = name.substr(0, name.find_last_not_of(" \t") + 1);
+    check_material_library(text.path, (std::filesystem::path(text.path).parent_path() / trimmed).string());
+  }
+}
+
 // What assimp will read the file as, as far as the checks before it reads are concerned: it picks
 // a reader by the file's extension, or when none claims it, by the content.
-enum class Layout { kOther, kPly, kGlb };
+enum class Layout { kOther, kPly, kGlb, kObj };
 
 Layout layout_of(const Assimp::Importer& importer, const Text& text) {
   const std::string extension = lowercase_extension(text.path);
   if (extension == ".ply") return Layout::kPly;
   if (extension == ".glb") return Layout::kGlb;
+  if (extension == ".obj") return Layout::kObj;
   if (!extension.empty() && importer.IsExtensionSupported(extension)) return Layout::kOther;
   const std::string_view start = text.all.substr(0, 4);
   const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
@@ -668,6 +708,7 @@ Layout check_before_reading(const Assimp::Importer& importer, const Text& text) 
   const Layout layout = layout_of(importer, text);
   if (layout == Layout::kPly) check_ply(text);
   if (layout == Layout::kGlb) check_glb(text);
+  if (layout == Layout::kObj) check_material_libraries(text);
   return layout;
 }
 
