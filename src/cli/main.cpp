@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
                        "Memory the model file's loader may use, MiB (default: " + std::to_string(io::kLoadMemoryPerFileByte) +
                            " times the file's size, at least " +
                            std::to_string(io::kLoadMemoryFloor >> 20) + ")")
-          ->check(CLI::Range(std::size_t{16}, std::size_t{1} << 24));
+          ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 24));  // assimp's OBJ reader alone takes 16 MiB
   CLI::Option* model_time =
       render
           ->add_option("--model-time-limit", model_seconds,
