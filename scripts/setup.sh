@@ -41,6 +41,8 @@ packages=(
   libgtest-dev oclgrind assimp-testmodels
   # the virtual environment Intel's runtime is installed into
   python3-venv
+  # scripts/fuzz.sh: clang with libFuzzer and the sanitizers' runtimes
+  clang-15
 )
 
 missing=()

@@ -369,9 +369,13 @@ Model load_model_isolated(const std::string& path, std::vector<std::string>& war
         describe_load_error(path, "the model loader ran longer than its time limit of " +
                                       format_number(static_cast<double>(resolved.time.count()) / 1000) + " s"));
   }
-  if (WIFSIGNALED(end.status)) {
+  // What a dying child said last (assimp's assertion, AddressSanitizer's report) follows the reason.
+  const auto and_what_it_said = [&](const std::string& reason) {
     const std::string said = last_line(messages.get());
-    fail_with("the model loader crashed (" + signal_name(WTERMSIG(end.status)) + ")" + (said.empty() ? "" : ": " + said));
+    return said.empty() ? reason : reason + ": " + said;
+  };
+  if (WIFSIGNALED(end.status)) {
+    fail_with(and_what_it_said("the model loader crashed (" + signal_name(WTERMSIG(end.status)) + ")"));
   }
   const int code = WEXITSTATUS(end.status);
   if (code == kExitOutOfMemory) {
@@ -380,7 +384,7 @@ Model load_model_isolated(const std::string& path, std::vector<std::string>& war
                                                                std::to_string(resolved.memory_bytes / kMiB) + " MiB"));
   }
   if (code == kExitCannotPassBack) fail_with("the model loader could not pass the model back");
-  if (code != 0) fail_with("the model loader exited with code " + std::to_string(code));
+  if (code != 0) fail_with(and_what_it_said("the model loader exited with code " + std::to_string(code)));
 
   const Mapped mapped(result.get());
   ResultReader in(mapped.bytes(), path);

@@ -189,9 +189,11 @@ bool reports_bad_vertex_index(std::string message) {
 //   one triangle each;
 // - OBJ: a reference to a normal or texture coordinate that does not exist, wrapped or not, makes
 //   the reader drop the normals or texture coordinates of the whole mesh.
-// So once one of those readers has read a file (assimp picks it by extension, or else by content),
-// the file's text is checked, cut into lines as that reader cuts it, so as to see the faces it saw:
-// every index must be a plain decimal of something that exists.
+// So the text of a file for one of those readers is checked, cut into lines as that reader cuts it,
+// so as to see the faces it sees: every index must be a plain decimal of something that exists.
+// OFF and PLY files are checked before assimp reads them, when their extension names the format
+// (their counts can make assimp allocate without bound, below); otherwise, and for OBJ, once
+// assimp has picked the reader (by extension, or else by content).
 
 // What faces reference, for messages.
 struct Kind {
@@ -298,10 +300,17 @@ void check_off(const Text& text) {
   if (has_dimension) rest.remove_prefix(1);
   if (rest.starts_with("OFF")) rest.remove_prefix(3);
   if (has_dimension) next_word();
-  const std::uint32_t vertices = text.count(next_word());
+  const std::string_view vertices_word = next_word();
+  const std::uint32_t vertices = text.count(vertices_word);
   const std::uint32_t faces = text.count(next_word());
   text.count(next_word());  // edges, which assimp reads and ignores
   skip_blanks();
+  // assimp allocates for what the counts declare before it reads: each vertex and face takes a
+  // line, of a character and a line end at least (the last line end may be missing).
+  if (2 * (std::uint64_t{vertices} + faces) > rest.size() + 1) {
+    text.fail_on(vertices_word, "declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+                                    " faces, more than the " + std::to_string(rest.size()) + " bytes after it hold");
+  }
 
   for (std::uint32_t v = 0; v < vertices; ++v) next_line();
   for (std::uint32_t f = 0; f < faces; ++f) {
@@ -358,6 +367,8 @@ struct PlyProperty {
   enum class Kind { kScalar, kList, kVertexIndices } kind;
   const PlyType* count_type;  // lists only
   const PlyType* value_type;  // null for a type the reader does not know (allowed in ASCII files)
+  std::string_view value_type_name;
+  std::string_view line;  // its "property" line, for messages
 };
 
 struct PlyElement {
@@ -414,12 +425,18 @@ PlyHeader read_ply_header(const Text& text) {
       const PlyProperty property{indices ? PlyProperty::Kind::kVertexIndices
                                  : list  ? PlyProperty::Kind::kList
                                          : PlyProperty::Kind::kScalar,
-                                 list ? ply_type(word(2)) : nullptr, ply_type(value_type)};
+                                 list ? ply_type(word(2)) : nullptr, ply_type(value_type), value_type, *line};
       if (list && property.count_type == nullptr) text.fail_on(*line, "declares a list without a count type");
-      if (!header.ascii && property.value_type == nullptr) {
-        text.fail_on(*line, "declares a property of unknown type '" + std::string(value_type) + "'");
-      }
       header.elements.back().properties.push_back(property);
+    }
+  }
+  // Once the format is known (the last "format" line counts): binary data cannot be read without
+  // each value's size.
+  for (const PlyElement& element : header.elements) {
+    for (const PlyProperty& property : element.properties) {
+      if (!header.ascii && property.value_type == nullptr) {
+        text.fail_on(property.line, "declares a property of unknown type '" + std::string(property.value_type_name) + "'");
+      }
     }
   }
   return header;
@@ -685,13 +702,14 @@ void check_material_libraries(const Text& text) {
 
 // What assimp will read the file as, as far as the checks before it reads are concerned: it picks
 // a reader by the file's extension, or when none claims it, by the content.
-enum class Layout { kOther, kPly, kGlb, kObj };
+enum class Layout { kOther, kPly, kGlb, kObj, kOff };
 
 Layout layout_of(const Assimp::Importer& importer, const Text& text) {
   const std::string extension = lowercase_extension(text.path);
   if (extension == ".ply") return Layout::kPly;
   if (extension == ".glb") return Layout::kGlb;
   if (extension == ".obj") return Layout::kObj;
+  if (extension == ".off") return Layout::kOff;
   if (!extension.empty() && importer.IsExtensionSupported(extension)) return Layout::kOther;
   const std::string_view start = text.all.substr(0, 4);
   const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
@@ -709,18 +727,19 @@ Layout check_before_reading(const Assimp::Importer& importer, const Text& text) 
   if (layout == Layout::kPly) check_ply(text);
   if (layout == Layout::kGlb) check_glb(text);
   if (layout == Layout::kObj) check_material_libraries(text);
+  if (layout == Layout::kOff) check_off(text);
   return layout;
 }
 
-// Checks the references of a file that assimp read with one of the readers above (a PLY file
-// unless it was checked before reading).
+// Checks the references of a file that assimp read with one of the readers above (OFF and PLY
+// files unless they were checked before reading).
 void check_references(const Assimp::Importer& importer, const Text& text, Layout checked) {
   // ReadFile chooses the reader by the file's extension, or else by its content, and leaves the
   // reader's index in this property.
   const aiImporterDesc* reader = importer.GetImporterInfo(importer.GetPropertyInteger("importerIndex", -1));
   if (reader == nullptr) return;
   const std::string_view format = reader->mFileExtensions;
-  if (format == "off") check_off(text);
+  if (format == "off" && checked != Layout::kOff) check_off(text);
   if (format == "ply" && checked != Layout::kPly) check_ply(text);
   if (format == "obj") check_obj(text);
 }

@@ -71,11 +71,43 @@ inline std::vector<HostileModel> hostile_models(const std::filesystem::path& dir
       // assimp: allocates 4.2 GB, then finds no reader.
       {"GlbWithAJsonChunkOf4GB", "huge_json_chunk.glb", glb,
        "GLB chunk 0 (JSON) declares 4294967294 bytes, but the file has 27 for it"},
+      // assimp: allocates for them (its own test file OutOfMemory.off, 3.5e11 vertices: 13 s).
+      {"OffDeclaring100MillionVertices", "hundred_million_vertices.off", "OFF\n100000000 1 0\n0 0 0\n3 0 0 0\n",
+       "line 2 declares 100000000 vertices and 1 faces, more than the 14 bytes after it hold"},
       // assimp: SIGSEGV.
       {"MtlTextureBeforeNewmtl", "early_map.obj", "mtllib early_map.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n",
        "material library '" + library + "' line 2 has 'map_Kd' before any 'newmtl': it belongs to no material",
        {"early_map.mtl", "# textured\nmap_Kd texture.png\nnewmtl m\nKd 1 0 0\n"}},
   };
+}
+
+// A GLB file that instances one mesh of `triangles` triangles from `instances` nodes: a few hundred
+// KB that the loader, which gives each instance its own triangles, makes into gigabytes (with the
+// defaults, 2000 triangles 10000 times: 255 KB, 20 million triangles).
+inline std::string instancing_glb(std::uint32_t triangles = 2000, std::uint32_t instances = 10000) {
+  std::string positions;
+  for (std::uint32_t t = 0; t < triangles; ++t) {
+    const float x = static_cast<float>(t);
+    positions += binary_values<float>({x, 0, 0, x + 1, 0, 0, x, 1, 0});
+  }
+  std::string children, nodes;
+  for (std::uint32_t n = 1; n <= instances; ++n) {
+    children += (n == 1 ? "" : ",") + std::to_string(n);
+    nodes += R"(,{"mesh":0})";
+  }
+  std::string json = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"children":[)" +
+                     children + "]}" + nodes +
+                     R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"accessors":[{"bufferView":0,)"
+                     R"("componentType":5126,"count":)" +
+                     std::to_string(3 * triangles) + R"(,"type":"VEC3","min":[0,0,0],"max":[)" +
+                     std::to_string(triangles + 1) + R"(,1,0]}],"bufferViews":[{"buffer":0,"byteLength":)" +
+                     std::to_string(positions.size()) + R"(}],"buffers":[{"byteLength":)" +
+                     std::to_string(positions.size()) + "}]}";
+  json.resize((json.size() + 3) / 4 * 4, ' ');  // chunks are 4-byte aligned
+  const auto length = [](const std::string& chunk) { return static_cast<std::uint32_t>(chunk.size()); };
+  return "glTF" + binary_values<std::uint32_t>({2, 12 + 8 + length(json) + 8 + length(positions)}) +
+         binary_values<std::uint32_t>({length(json)}) + "JSON" + json + binary_values<std::uint32_t>({length(positions)}) +
+         std::string("BIN\0", 4) + positions;
 }
 
 // Writes `model` (and its companion) into `directory`; returns the model's path.
