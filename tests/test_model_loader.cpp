@@ -1417,7 +1417,7 @@ std::string ply_grid(std::uint32_t side) {
 }
 
 TEST_F(CraftedModel, ALoadBeyondItsMemoryIsRefused) {
-  if (kBuiltWithAddressSanitizer) GTEST_SKIP() << "no address-space limit under AddressSanitizer";
+  if (kBuiltWithAddressSanitizer) GTEST_SKIP() << "no memory limit under AddressSanitizer";
   // 13 MB, which takes over 100 MiB to load: within the default limit, not within 16 MiB and the
   // few tens of MiB that this test process holds free (which the child can reuse).
   const fs::path grid = write("grid.ply", ply_grid(600));

@@ -141,8 +141,8 @@ int main(int argc, char** argv) {
   CLI::Option* model_memory =
       render
           ->add_option("--model-memory-limit", model_memory_mib,
-                       "Memory the model file's loader may use, MiB (default: " + std::to_string(io::kLoadMemoryPerFileByte) +
-                           " times the file's size, at least " +
+                       "Memory the model file's loader may use, MiB (default: " +
+                           std::to_string(io::kLoadMemoryPerFileByte) + " times the file's size, at least " +
                            std::to_string(io::kLoadMemoryFloor >> 20) + ")")
           ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 24));  // assimp's OBJ reader alone takes 16 MiB
   CLI::Option* model_time =

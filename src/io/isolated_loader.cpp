@@ -146,8 +146,9 @@ class ResultReader {
   std::vector<T> array() {
     const std::uint64_t count = number();
     if (count > rest_.size() / sizeof(T)) malformed();
+    const char* bytes = take(count * sizeof(T));
     std::vector<T> values(count);
-    std::memcpy(values.data(), take(count * sizeof(T)), count * sizeof(T));
+    if (count > 0) std::memcpy(values.data(), bytes, count * sizeof(T));  // data() can be null otherwise
     return values;
   }
   std::vector<std::string> texts() {
@@ -330,7 +331,8 @@ std::string last_line(int fd) {
 
 std::string signal_name(int signal) {
   const char* abbreviation = ::sigabbrev_np(signal);
-  const std::string name = abbreviation != nullptr ? std::string("SIG") + abbreviation : "signal " + std::to_string(signal);
+  const std::string name =
+      abbreviation != nullptr ? std::string("SIG") + abbreviation : "signal " + std::to_string(signal);
   return name + ", " + ::strsignal(signal);
 }
 

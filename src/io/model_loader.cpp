@@ -420,7 +420,8 @@ PlyHeader read_ply_header(const Text& text) {
       const bool indices = list && header.elements.back().name == "face" &&
                            (word(4) == "vertex_indices" || word(4) == "vertex_index");
       if (indices && (value_type.starts_with("float") || value_type.starts_with("double"))) {
-        text.fail_on(*line, "declares vertex indices of type " + std::string(value_type) + ", which assimp rounds and wraps");
+        text.fail_on(*line,
+                     "declares vertex indices of type " + std::string(value_type) + ", which assimp rounds and wraps");
       }
       const PlyProperty property{indices ? PlyProperty::Kind::kVertexIndices
                                  : list  ? PlyProperty::Kind::kList
@@ -435,7 +436,8 @@ PlyHeader read_ply_header(const Text& text) {
   for (const PlyElement& element : header.elements) {
     for (const PlyProperty& property : element.properties) {
       if (!header.ascii && property.value_type == nullptr) {
-        text.fail_on(property.line, "declares a property of unknown type '" + std::string(property.value_type_name) + "'");
+        text.fail_on(property.line,
+                     "declares a property of unknown type '" + std::string(property.value_type_name) + "'");
       }
     }
   }
@@ -681,8 +683,8 @@ void check_material_library(const std::string& path, const std::string& library)
     if (words.empty()) continue;
     if (words[0] == "newmtl") return;
     if (is_texture_statement(words[0])) {
-      fail(path, "material library '" + library + "' line " + std::to_string(number) + " has '" + std::string(words[0]) +
-                     "' before any 'newmtl': it belongs to no material");
+      fail(path, "material library '" + library + "' line " + std::to_string(number) + " has '" +
+                     std::string(words[0]) + "' before any 'newmtl': it belongs to no material");
     }
   }
 }
