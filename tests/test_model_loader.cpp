@@ -1349,13 +1349,20 @@ TEST_F(CraftedModel, HostileFilesAreRefusedBeforeAssimpReadsThem) {
 }
 
 TEST_F(CraftedModel, WhatTheFuzzerFoundIsRefused) {
-  // scripts/fuzz.sh's findings in the checks before assimp, reduced: a binary format declared after a
-  // property of a type whose size is unknown (read as null in check_declared_counts).
+  // scripts/fuzz.sh's findings, reduced. In the checks before assimp: a binary format declared after
+  // a property of a type whose size is unknown (read as null in check_declared_counts).
   const fs::path late_format = write("late_format.ply",
                                      "ply\nformat ascii 1.0\nelement vertex 3\nproperty foo x\n"
                                      "format binary_little_endian 1.0\nend_header\n");
   EXPECT_EQ(load_error(late_format),
             "cannot load model '" + late_format.string() + "': line 4 declares a property of unknown type 'foo'");
+  // assimp corrupts its heap ("malloc(): corrupted top size") on a second vertex element.
+  std::string second_vertices = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float y\nelement vertex 24\n"
+                                "property float z\nend_header\n";
+  for (int line = 0; line < 27; ++line) second_vertices += "0\n";
+  const fs::path duplicate = write("second_vertices.ply", second_vertices);
+  EXPECT_EQ(isolated_load_error(duplicate, kHostileLimits),
+            "cannot load model '" + duplicate.string() + "': line 5 declares a second 'vertex' element");
 }
 
 TEST_F(CraftedModel, AParserCrashIsAnErrorNamingTheSignal) {

@@ -386,8 +386,8 @@ struct PlyHeader {
 };
 
 // The header as assimp's reader takes it, line by line. Fails on what assimp reads wrongly or not
-// at all: no end_header, triangle strips, floating-point vertex indices, and in binary files a type
-// whose size is unknown.
+// at all: no end_header, an element declared twice, triangle strips, floating-point vertex indices,
+// and in binary files a type whose size is unknown.
 PlyHeader read_ply_header(const Text& text) {
   PlyHeader header;
   std::string_view rest = text.all;
@@ -411,6 +411,11 @@ PlyHeader read_ply_header(const Text& text) {
     if (word(0) == "element") {
       if (word(1) == "tristrips") {
         text.fail_on(*line, "declares triangle strips, of which assimp keeps one triangle each");
+      }
+      // assimp sizes its arrays by the first and corrupts its heap writing a second (found by fuzzing).
+      if (std::any_of(header.elements.begin(), header.elements.end(),
+                      [&](const PlyElement& element) { return element.name == word(1); })) {
+        text.fail_on(*line, "declares a second '" + std::string(word(1)) + "' element");
       }
       header.elements.push_back({word(1), *line, text.count(word(2)), {}});
     }
