@@ -42,6 +42,8 @@ packages=(
   # the virtual environments Intel's runtime and the Python package are installed into, and the
   # headers the package's extension module is compiled against
   python3-venv python3-dev
+  # scripts/fuzz.sh: clang with libFuzzer and the sanitizers' runtimes
+  clang-15
 )
 
 missing=()

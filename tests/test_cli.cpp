@@ -4,14 +4,19 @@
 // output file left as it was.
 #include "io/camera.hpp"
 #include "io/image_io.hpp"
+#include "io/isolated_loader.hpp"
 #include "io/model_loader.hpp"
 #include "io/procedural.hpp"
 #include "support/cli_support.hpp"
+#include "support/hostile_models.hpp"
 #include "support/test_support.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -133,7 +138,7 @@ TEST(CliInterface, RenderHelpNamesEveryOption) {
   EXPECT_TRUE(succeeded(result));
   for (const char* option : {"--output", "--size", "--eye", "--target", "--up", "--fov", "--near", "--far", "--shading",
                              "--program", "--cull", "--frames", "--stats", "--device", "--backend", "--memory-cap",
-                             "--tile-size"}) {
+                             "--tile-size", "--model-memory-limit", "--model-time-limit"}) {
     EXPECT_TRUE(mentions(result.out, option));
   }
 }
@@ -693,6 +698,71 @@ INSTANTIATE_TEST_SUITE_P(
                      R"("min": [0, 0, 0], "max": [1, 1, 0]},)"
                      R"({"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// The model files of issue 38 that took the command line down, hung it or ate gigabytes: each is
+// one error line within seconds. The memory limit is far below what they took, so a check that
+// stopped working shows as another message.
+class HostileModelFile : public ::testing::TestWithParam<HostileModel> {};
+
+const fs::path& hostile_directory() {
+  static const fs::path directory = scratch_directory() / "hostile";
+  return directory;
+}
+
+TEST_P(HostileModelFile, IsOneErrorLineWithinSeconds) {
+  fs::create_directories(hostile_directory());
+  const fs::path path = write_hostile_model(GetParam(), hostile_directory());
+  const auto start = std::chrono::steady_clock::now();
+  const CliResult result = expect_render_rejected({path.string(), "--size", "16x16", "--model-memory-limit", "256"},
+                                                  path.string());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  EXPECT_EQ(result.err, "clraster: error: cannot load model '" + path.string() + "': " + GetParam().reason + "\n");
+  EXPECT_EQ(result.exit_code, 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Issue38, HostileModelFile,
+                         ::testing::ValuesIn(hostile_models(hostile_directory())),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(CliBadInput, ModelLoaderCrashIsOneErrorLine) {
+  // Without an extension assimp picks its OBJ reader by the content, past the check of .obj files'
+  // material libraries, and crashes on the texture before any material.
+  const fs::path model = write_scratch_file("early_map", kObjTriangle + "mtllib early.mtl\nusemtl m\nf 1 2 3\n");
+  write_scratch_file("early.mtl", "map_Kd texture.png\nnewmtl m\n");
+  const CliResult result = expect_render_rejected({model.string(), "--size", "16x16"}, model.string());
+  const std::string crashed = "clraster: error: cannot load model '" + model.string() + "': the model loader ";
+  if (io::kBuiltWithAddressSanitizer) {
+    EXPECT_TRUE(result.err.starts_with(crashed)) << result.err;  // AddressSanitizer's report and exit code
+  } else {
+    EXPECT_EQ(result.err, crashed + "crashed (SIGSEGV, Segmentation fault)\n");
+  }
+}
+
+TEST(CliBadInput, ModelLoaderBeyondItsTimeNamesTheOption) {
+  const fs::path pipe = scratch_directory() / "pipe.obj";  // opening it blocks: nobody writes
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  const CliResult result =
+      expect_render_rejected({pipe.string(), "--size", "16x16", "--model-time-limit", "0.5"}, pipe.string());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  EXPECT_EQ(result.err, "clraster: error: cannot load model '" + pipe.string() +
+                            "': the model loader ran longer than its time limit of 0.5 s; --model-time-limit "
+                            "SECONDS raises it\n");
+}
+
+TEST(CliBadInput, ModelLoaderBeyondItsMemoryNamesTheOption) {
+  if (io::kBuiltWithAddressSanitizer) GTEST_SKIP() << "no memory limit under AddressSanitizer";
+  // 255 KB that instance a mesh into 20 million triangles need more than the default; the landscape
+  // loads within the smallest limit the option takes.
+  const fs::path instances = write_scratch_file("instances.glb", instancing_glb());
+  const CliResult result = expect_render_rejected({instances.string(), "--size", "16x16"}, instances.string());
+  EXPECT_EQ(result.err, "clraster: error: cannot load model '" + instances.string() +
+                            "': the model loader needed more than its memory limit of " +
+                            std::to_string(io::kLoadMemoryFloor >> 20) + " MiB; --model-memory-limit MiB raises it\n");
+  EXPECT_TRUE(succeeded(run_cli({"render", landscape_file().string(), "--output",
+                                 (scratch_directory() / "landscape.png").string(), "--size", "16x16",
+                                 "--model-memory-limit", "64"})));
+}
 
 struct BadOutput {
   std::string name;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "io/camera.hpp"
+#include "io/isolated_loader.hpp"
 
 #include <functional>
 #include <optional>
@@ -35,6 +36,7 @@ enum class ShadingOption { Normal, Lambert, Depth, Overdraw, Material };
 
 struct RenderOptions {
   std::string model;  // empty: the built-in demo scene
+  io::ModelLoadLimits model_limits;  // of the process the model file is loaded in
   std::string output;
   int width = 1280;
   int height = 720;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <charconv>
 #include <limits>
 #include <optional>
@@ -207,6 +208,22 @@ int main(int argc, char** argv) {
                      "Stop the render when its frames (after programs are built) take longer than this many seconds: "
                      "a program that loops for ever ends in an error (default: no limit)")
       ->option_text("SECONDS");
+  std::size_t model_memory_mib = 0;
+  double model_seconds = 0;
+  CLI::Option* model_memory =
+      render
+          ->add_option("--model-memory-limit", model_memory_mib,
+                       "Memory the model file's loader may use, MiB (default: " +
+                           std::to_string(io::kLoadMemoryPerFileByte) + " times the file's size, at least " +
+                           std::to_string(io::kLoadMemoryFloor >> 20) + ")")
+          ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 24));  // assimp's OBJ reader alone takes 16 MiB
+  CLI::Option* model_time =
+      render
+          ->add_option("--model-time-limit", model_seconds,
+                       "Time the model file's loader may take, seconds (default: " +
+                           std::to_string(io::kLoadTimePerMiB.count()) + " per MiB of the file, at least " +
+                           std::to_string(io::kLoadTimeFloor.count()) + ")")
+          ->check(CLI::Range(0.001, 1e6));
 
   CompareOptions compare_options;
   CLI::App* compare = app.add_subcommand("compare", "Print, as JSON, how far two pictures differ");
@@ -284,6 +301,10 @@ int main(int argc, char** argv) {
         io::validate_lens(render_options.fov_degrees, render_options.near_plane, render_options.far_plane);
       });
       render_options.memory_cap = memory_cap_mib << 20;
+      if (*model_memory) render_options.model_limits.memory_bytes = model_memory_mib << 20;
+      if (*model_time) {
+        render_options.model_limits.time = std::chrono::milliseconds(static_cast<std::int64_t>(model_seconds * 1000));
+      }
       return cli::render(render_options);
     }
     if (*compare) return cli::compare(compare_options);

@@ -59,6 +59,19 @@ void print_warnings(const std::vector<std::string>& warnings) {
   for (const std::string& warning : warnings) std::cerr << "clraster: warning: " << printable(warning) << '\n';
 }
 
+// The model file, loaded in a process of its own with limits: a file that crashes or exhausts the
+// parser is an error, not the end of this process. A limit that was reached is named with the option
+// that raises it.
+io::Model load_model_file(const RenderOptions& options, std::vector<std::string>& warnings) {
+  try {
+    return io::load_model_isolated(options.model, warnings, options.model_limits);
+  } catch (const io::ModelLoadLimitExceeded& error) {
+    const bool memory = error.limit() == io::ModelLoadLimitExceeded::Limit::kMemory;
+    throw InvalidArgument(std::string(error.what()) + "; " +
+                          (memory ? "--model-memory-limit MiB" : "--model-time-limit SECONDS") + " raises it");
+  }
+}
+
 // The model file, or the built-in demo scene as a model of one part with a white material.
 io::Model load_scene(const RenderOptions& options) {
   std::vector<std::string> warnings;
@@ -68,7 +81,7 @@ io::Model load_scene(const RenderOptions& options) {
     model.materials.emplace_back();
     model.parts.push_back({0, static_cast<std::uint32_t>(model.indices.size()), 0});
   } else {
-    model = io::load_model(options.model, warnings);
+    model = load_model_file(options, warnings);
   }
   if (model.triangles_dropped > 0) {
     warnings.push_back(options.model + ": " + io::describe_triangles_dropped(model.triangles_dropped));

@@ -19,6 +19,11 @@
 #include <string_view>
 #include <unordered_map>
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
@@ -41,7 +46,7 @@ namespace {
 constexpr unsigned kPostProcessing = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure;
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
-  throw InvalidArgument("cannot load model '" + path + "': " + reason);
+  throw InvalidArgument(describe_load_error(path, reason));
 }
 
 // assimp's messages can span several lines and be long; ours are one line.
@@ -58,19 +63,58 @@ std::string one_line(std::string_view text) {
   return line;
 }
 
-// Checked before assimp sees the file, whose "unable to open file" does not say why.
-void require_readable(const std::string& path) {
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored)) fail(path, "it is a directory");
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) fail(path, std::strerror(errno));
-  std::fclose(file);
-}
+// A model file's bytes, for the checks before and after assimp reads it: mapped when it is a
+// regular file, read otherwise (a device such as /dev/null, a pipe). Opened before assimp sees the
+// file, whose "unable to open file" does not say why.
+class ModelFile {
+ public:
+  explicit ModelFile(const std::string& path) {
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) fail(path, "it is a directory");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) fail(path, std::strerror(errno));
+    struct stat status {};
+    if (::fstat(fd, &status) == 0 && S_ISREG(status.st_mode) && status.st_size > 0) {
+      void* mapping = ::mmap(nullptr, static_cast<std::size_t>(status.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
+      if (mapping != MAP_FAILED) {
+        mapping_ = mapping;
+        bytes_ = {static_cast<const char*>(mapping), static_cast<std::size_t>(status.st_size)};
+      }
+    }
+    if (mapping_ == nullptr) {
+      char buffer[1 << 16];
+      for (ssize_t got; (got = ::read(fd, buffer, sizeof buffer)) != 0;) {
+        if (got < 0 && errno != EINTR) break;
+        if (got > 0) read_.append(buffer, static_cast<std::size_t>(got));
+      }
+      bytes_ = read_;
+    }
+    ::close(fd);
+  }
+  ~ModelFile() {
+    if (mapping_ != nullptr) ::munmap(mapping_, bytes_.size());
+  }
+  ModelFile(const ModelFile&) = delete;
+  ModelFile& operator=(const ModelFile&) = delete;
 
-bool is_gltf(const std::string& path) {
+  std::string_view bytes() const { return bytes_; }
+
+ private:
+  void* mapping_ = nullptr;
+  std::string read_;
+  std::string_view bytes_;
+};
+
+// ".glb" for "Box.GLB".
+std::string lowercase_extension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+bool is_gltf(const std::string& path) {
+  const std::string extension = lowercase_extension(path);
   return extension == ".gltf" || extension == ".glb";
 }
 
@@ -145,9 +189,11 @@ bool reports_bad_vertex_index(std::string message) {
 //   one triangle each;
 // - OBJ: a reference to a normal or texture coordinate that does not exist, wrapped or not, makes
 //   the reader drop the normals or texture coordinates of the whole mesh.
-// So once one of those readers has read a file (assimp picks it by extension, or else by content),
-// the file's text is checked, cut into lines as that reader cuts it, so as to see the faces it saw:
-// every index must be a plain decimal of something that exists.
+// So the text of a file for one of those readers is checked, cut into lines as that reader cuts it,
+// so as to see the faces it sees: every index must be a plain decimal of something that exists.
+// OFF and PLY files are checked before assimp reads them, when their extension names the format
+// (their counts can make assimp allocate without bound, below); otherwise, and for OBJ, once
+// assimp has picked the reader (by extension, or else by content).
 
 // What faces reference, for messages.
 struct Kind {
@@ -254,10 +300,17 @@ void check_off(const Text& text) {
   if (has_dimension) rest.remove_prefix(1);
   if (rest.starts_with("OFF")) rest.remove_prefix(3);
   if (has_dimension) next_word();
-  const std::uint32_t vertices = text.count(next_word());
+  const std::string_view vertices_word = next_word();
+  const std::uint32_t vertices = text.count(vertices_word);
   const std::uint32_t faces = text.count(next_word());
   text.count(next_word());  // edges, which assimp reads and ignores
   skip_blanks();
+  // assimp allocates for what the counts declare before it reads: each vertex and face takes a
+  // line, of a character and a line end at least (the last line end may be missing).
+  if (2 * (std::uint64_t{vertices} + faces) > rest.size() + 1) {
+    text.fail_on(vertices_word, "declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+                                    " faces, more than the " + std::to_string(rest.size()) + " bytes after it hold");
+  }
 
   for (std::uint32_t v = 0; v < vertices; ++v) next_line();
   for (std::uint32_t f = 0; f < faces; ++f) {
@@ -280,70 +333,233 @@ std::optional<std::string_view> next_ply_line(std::string_view& rest) {
   return line;
 }
 
-// PLY: a header of elements ("element face 12") and their properties ("property float x",
-// "property list uchar int vertex_indices"), then, in ASCII files, each element's entries one line
-// each, their values word by word in the order of the properties. Faces are the entries of
-// "face", their vertex indices the lists "vertex_indices" or "vertex_index".
-void check_ply(const Text& text) {
-  enum class Property { kScalar, kList, kVertexIndices };
-  struct Element {
-    std::string_view name;
-    std::uint32_t count;
-    std::vector<Property> properties;
-  };
-  std::vector<Element> elements;
+// ---- PLY, checked before assimp reads it -----------------------------------------------------
+//
+// A PLY file is a header of elements ("element face 12") and their properties ("property float x",
+// "property list uchar int vertex_indices"), then each element's entries: in ASCII files one line
+// each, their values word by word in the order of the properties; in binary files the values one
+// after the other. Faces are the entries of "face", their vertex indices the lists
+// "vertex_indices" or "vertex_index". assimp 5.2.5's reader loops forever on a header without
+// end_header, allocates for the entries a header declares before it reads them (100 million faces
+// in a 188-byte file grow past 4.6 GB), and aborts or corrupts memory on a face without vertex
+// indices; so all of that is checked before assimp sees the file, with the misread references of
+// ASCII files.
+
+struct PlyType {
+  std::string_view name;
+  unsigned size;
+  bool is_signed;
+};
+
+constexpr std::array<PlyType, 16> kPlyTypes{{{"char", 1, true},    {"int8", 1, true},     {"uchar", 1, false},
+                                             {"uint8", 1, false},  {"short", 2, true},    {"int16", 2, true},
+                                             {"ushort", 2, false}, {"uint16", 2, false},  {"int", 4, true},
+                                             {"int32", 4, true},   {"uint", 4, false},    {"uint32", 4, false},
+                                             {"float", 4, true},   {"float32", 4, true},  {"double", 8, true},
+                                             {"float64", 8, true}}};
+
+const PlyType* ply_type(std::string_view name) {
+  const auto type = std::find_if(kPlyTypes.begin(), kPlyTypes.end(), [&](const PlyType& t) { return t.name == name; });
+  return type == kPlyTypes.end() ? nullptr : &*type;
+}
+
+struct PlyProperty {
+  enum class Kind { kScalar, kList, kVertexIndices } kind;
+  const PlyType* count_type;  // lists only
+  const PlyType* value_type;  // null for a type the reader does not know (allowed in ASCII files)
+  std::string_view value_type_name;
+  std::string_view line;  // its "property" line, for messages
+};
+
+struct PlyElement {
+  std::string_view name;
+  std::string_view line;  // its "element" line, for messages
+  std::uint32_t count;
+  std::vector<PlyProperty> properties;
+};
+
+struct PlyHeader {
   bool ascii = false;
+  bool big_endian = false;
+  std::vector<PlyElement> elements;
+  std::string_view data;  // what follows the end_header line
+};
+
+// The header as assimp's reader takes it, line by line. Fails on what assimp reads wrongly or not
+// at all: no end_header, an element declared twice, triangle strips, floating-point vertex indices,
+// and in binary files a type whose size is unknown.
+PlyHeader read_ply_header(const Text& text) {
+  PlyHeader header;
   std::string_view rest = text.all;
   for (;;) {
     const std::optional<std::string_view> line = next_ply_line(rest);
-    if (!line) return;  // no end_header, so assimp read no data
+    if (!line) fail(text.path, "its PLY header has no end_header line");
     const std::vector<std::string_view> words = words_of(*line);
     const auto word = [&](std::size_t i) { return i < words.size() ? words[i] : line->substr(line->size()); };
-    if (word(0) == "end_header") break;
-    if (word(0) == "format") ascii = word(1) == "ascii";
+    if (word(0) == "end_header") {
+      // ASCII entries are lines from here on; binary data starts after the line's '\n', which a
+      // '\r' (the line end that ended it) can precede.
+      const std::size_t line_end_at = static_cast<std::size_t>(line->data() + line->size() - text.all.data());
+      const bool ended_by_cr = line_end_at < text.all.size() && text.all[line_end_at] == '\r';
+      header.data = !header.ascii && ended_by_cr && rest.starts_with('\n') ? rest.substr(1) : rest;
+      break;
+    }
+    if (word(0) == "format") {
+      header.ascii = word(1) == "ascii";
+      header.big_endian = word(1) == "binary_big_endian";
+    }
     if (word(0) == "element") {
       if (word(1) == "tristrips") {
         text.fail_on(*line, "declares triangle strips, of which assimp keeps one triangle each");
       }
-      elements.push_back({word(1), text.count(word(2)), {}});
-    }
-    if (word(0) == "property" && !elements.empty()) {
-      const bool list = word(1) == "list";
-      const bool indices =
-          list && elements.back().name == "face" && (word(4) == "vertex_indices" || word(4) == "vertex_index");
-      if (indices && (word(3).starts_with("float") || word(3).starts_with("double"))) {
-        const std::string type(word(3));
-        text.fail_on(*line, "declares vertex indices of type " + type + ", which assimp rounds and wraps");
+      // assimp sizes its arrays by the first and corrupts its heap writing a second (found by fuzzing).
+      if (std::any_of(header.elements.begin(), header.elements.end(),
+                      [&](const PlyElement& element) { return element.name == word(1); })) {
+        text.fail_on(*line, "declares a second '" + std::string(word(1)) + "' element");
       }
-      elements.back().properties.push_back(indices ? Property::kVertexIndices
-                                           : list  ? Property::kList
-                                                   : Property::kScalar);
+      header.elements.push_back({word(1), *line, text.count(word(2)), {}});
+    }
+    if (word(0) == "property" && !header.elements.empty()) {
+      const bool list = word(1) == "list";
+      const std::string_view value_type = list ? word(3) : word(1);
+      const bool indices = list && header.elements.back().name == "face" &&
+                           (word(4) == "vertex_indices" || word(4) == "vertex_index");
+      if (indices && (value_type.starts_with("float") || value_type.starts_with("double"))) {
+        text.fail_on(*line,
+                     "declares vertex indices of type " + std::string(value_type) + ", which assimp rounds and wraps");
+      }
+      const PlyProperty property{indices ? PlyProperty::Kind::kVertexIndices
+                                 : list  ? PlyProperty::Kind::kList
+                                         : PlyProperty::Kind::kScalar,
+                                 list ? ply_type(word(2)) : nullptr, ply_type(value_type), value_type, *line};
+      if (list && property.count_type == nullptr) text.fail_on(*line, "declares a list without a count type");
+      header.elements.back().properties.push_back(property);
     }
   }
-  // Binary integers cannot be misspelled, and assimp's validation refuses those out of range.
-  if (!ascii) return;
+  // Once the format is known (the last "format" line counts): binary data cannot be read without
+  // each value's size.
+  for (const PlyElement& element : header.elements) {
+    for (const PlyProperty& property : element.properties) {
+      if (!header.ascii && property.value_type == nullptr) {
+        text.fail_on(property.line,
+                     "declares a property of unknown type '" + std::string(property.value_type_name) + "'");
+      }
+    }
+  }
+  return header;
+}
 
-  const auto named = [](std::string_view name) { return [name](const Element& e) { return e.name == name; }; };
-  const auto vertex = std::find_if(elements.begin(), elements.end(), named("vertex"));
-  const std::uint32_t vertices = vertex == elements.end() ? 0 : vertex->count;
-  const auto faces_end = std::find_if(elements.rbegin(), elements.rend(), named("face")).base();
-  for (auto element = elements.begin(); element != faces_end; ++element) {
-    for (std::uint32_t i = 0; i < element->count; ++i) {
+// Refuses a header that declares more entries than the data after it can hold, before assimp
+// allocates for them: in binary files an entry takes at least its scalars and its lists' counts,
+// in ASCII files at least a character per value (and a line end).
+void check_declared_counts(const Text& text, const PlyHeader& header) {
+  std::uint64_t needed = 0;
+  for (const PlyElement& element : header.elements) {
+    std::uint64_t entry_size = 0;
+    for (const PlyProperty& property : element.properties) {
+      entry_size += header.ascii ? 1
+                    : property.kind == PlyProperty::Kind::kScalar ? property.value_type->size
+                                                                  : property.count_type->size;
+    }
+    needed += std::uint64_t{element.count} * std::max<std::uint64_t>(entry_size, 1);
+    // An ASCII file's last line end may be missing.
+    if (needed > header.data.size() + (header.ascii ? 1 : 0)) {
+      text.fail_on(element.line, "declares " + std::to_string(element.count) + " '" + std::string(element.name) +
+                                      "' elements, more than the " + std::to_string(header.data.size()) +
+                                      " bytes after the header hold");
+    }
+  }
+}
+
+// The elements up to the last "face" one: what has to be read to see every face.
+std::span<const PlyElement> elements_through_faces(const PlyHeader& header) {
+  const auto faces = std::find_if(header.elements.rbegin(), header.elements.rend(),
+                                  [](const PlyElement& e) { return e.name == "face"; });
+  return std::span(header.elements).first(static_cast<std::size_t>(header.elements.rend() - faces));
+}
+
+// ASCII entries, lines cut as assimp's reader cuts them: every face has vertex indices, each a
+// plain decimal of a vertex that exists.
+void check_ascii_ply_faces(const Text& text, const PlyHeader& header) {
+  std::string_view rest = header.data;
+  const auto vertex = std::find_if(header.elements.begin(), header.elements.end(),
+                                   [](const PlyElement& e) { return e.name == "vertex"; });
+  const std::uint32_t vertices = vertex == header.elements.end() ? 0 : vertex->count;
+  for (const PlyElement& element : elements_through_faces(header)) {
+    for (std::uint32_t i = 0; i < element.count; ++i) {
       const std::optional<std::string_view> line = next_ply_line(rest);
       if (!line) fail(text.path, "the file ends before its last face");
-      if (element->name != "face") continue;
+      if (element.name != "face") continue;
       const std::vector<std::string_view> words = words_of(*line);
       std::size_t at = 0;
-      for (Property property : element->properties) {
-        if (property == Property::kScalar) {
+      for (const PlyProperty& property : element.properties) {
+        if (property.kind == PlyProperty::Kind::kScalar) {
           ++at;
           continue;
         }
-        for (std::string_view index : text.take_list(*line, words, at)) {
-          if (property == Property::kVertexIndices) text.check_vertex(index, vertices);
-        }
+        const std::span<const std::string_view> list = text.take_list(*line, words, at);
+        if (property.kind != PlyProperty::Kind::kVertexIndices) continue;
+        if (list.empty()) text.fail_on(*line, "is a face without vertex indices");
+        for (std::string_view index : list) text.check_vertex(index, vertices);
       }
     }
+  }
+}
+
+// Binary entries: every face has vertex indices. (Binary integers cannot be misspelled, and
+// assimp's validation refuses those out of range.)
+void check_binary_ply_faces(const Text& text, const PlyHeader& header) {
+  std::string_view rest = header.data;
+  const auto skip = [&](std::uint64_t bytes) {
+    if (bytes > rest.size()) fail(text.path, "the file ends before its last face");
+    rest.remove_prefix(static_cast<std::size_t>(bytes));
+  };
+  const auto read_count = [&](const PlyType& type) {
+    std::array<unsigned char, 4> bytes{};
+    if (type.size > rest.size()) fail(text.path, "the file ends before its last face");
+    std::memcpy(bytes.data(), rest.data(), type.size);
+    if (header.big_endian) std::reverse(bytes.begin(), bytes.begin() + type.size);
+    rest.remove_prefix(type.size);
+    std::int64_t value = 0;
+    for (unsigned k = type.size; k-- > 0;) value = value << 8 | bytes[k];
+    const std::int64_t sign_bit = std::int64_t{1} << (8 * type.size - 1);
+    return type.is_signed && (value & sign_bit) ? value - 2 * sign_bit : value;
+  };
+  for (const PlyElement& element : elements_through_faces(header)) {
+    const bool all_scalar = std::all_of(element.properties.begin(), element.properties.end(), [](const PlyProperty& p) {
+      return p.kind == PlyProperty::Kind::kScalar;
+    });
+    if (all_scalar) {
+      std::uint64_t entry_size = 0;
+      for (const PlyProperty& property : element.properties) entry_size += property.value_type->size;
+      skip(entry_size * element.count);
+      continue;
+    }
+    for (std::uint32_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& property : element.properties) {
+        if (property.kind == PlyProperty::Kind::kScalar) {
+          skip(property.value_type->size);
+          continue;
+        }
+        const std::int64_t length = read_count(*property.count_type);
+        const auto entry = [&] { return std::string(element.name) + " " + std::to_string(i); };
+        if (length < 0) fail(text.path, entry() + " has a list of negative length " + std::to_string(length));
+        if (length == 0 && property.kind == PlyProperty::Kind::kVertexIndices) {
+          fail(text.path, entry() + " has no vertex indices");
+        }
+        skip(static_cast<std::uint64_t>(length) * property.value_type->size);
+      }
+    }
+  }
+}
+
+void check_ply(const Text& text) {
+  const PlyHeader header = read_ply_header(text);
+  check_declared_counts(text, header);
+  if (header.ascii) {
+    check_ascii_ply_faces(text, header);
+  } else {
+    check_binary_ply_faces(text, header);
   }
 }
 
@@ -402,18 +618,137 @@ void check_obj(const Text& text) {
   }
 }
 
-// Checks the references of a file that assimp read with one of the readers above.
-void check_references(const Assimp::Importer& importer, const std::string& path) {
+// ---- GLB, checked before assimp reads it -------------------------------------------------------
+//
+// A GLB file is a 12-byte header ("glTF", the version, the file's length) and chunks, each an
+// 8-byte header (its length and type) and its data; glTF 1.0's has one content chunk, with its
+// length and format in the header. assimp allocates what a length declares before it reads it (a
+// JSON chunk of 0xFFFFFFFE bytes: 4.2 GB), so each must lie within the file.
+
+std::uint32_t little_endian_u32(std::string_view bytes, std::size_t at) {
+  std::uint32_t value = 0;
+  for (int k = 3; k >= 0; --k) value = value << 8 | static_cast<unsigned char>(bytes[at + k]);
+  return value;
+}
+
+void check_glb(const Text& text) {
+  const std::string_view bytes = text.all;
+  const auto fail_beyond = [&](const std::string& what, std::uint64_t length, std::uint64_t available) {
+    fail(text.path, what + " declares " + std::to_string(length) + " bytes, but the file has " +
+                        std::to_string(available) + " for it");
+  };
+  // glTF 1.0's content chunk starts at 20; glTF 2.0's chunks at 12. The header's own length is not
+  // held against the file's: writers of glTF 1.0 files count it differently, and assimp reads
+  // what the chunks declare.
+  constexpr std::size_t kHeaderSize = 12;
+  constexpr std::size_t kVersion1HeaderSize = 20;
+  const std::uint32_t version = bytes.size() >= kHeaderSize ? little_endian_u32(bytes, 4) : 0;
+  if (bytes.size() < (version == 1 ? kVersion1HeaderSize : kHeaderSize)) {
+    fail(text.path, "a GLB file of " + std::to_string(bytes.size()) + " bytes is shorter than its header");
+  }
+  if (version == 1) {
+    const std::uint32_t content = little_endian_u32(bytes, kHeaderSize);
+    if (content > bytes.size() - kVersion1HeaderSize) {
+      fail_beyond("its GLB content", content, bytes.size() - kVersion1HeaderSize);
+    }
+    return;
+  }
+  constexpr std::size_t kChunkHeaderSize = 8;
+  const std::size_t end = std::min<std::size_t>(little_endian_u32(bytes, 8), bytes.size());
+  std::size_t at = kHeaderSize;
+  for (int chunk = 0; at + kChunkHeaderSize <= end; ++chunk) {
+    const std::uint32_t chunk_length = little_endian_u32(bytes, at);
+    const std::string_view type = bytes.substr(at + 4, 4);
+    const std::string name = type == "JSON" ? " (JSON)" : type == std::string_view("BIN\0", 4) ? " (BIN)" : "";
+    at += kChunkHeaderSize;
+    if (chunk_length > bytes.size() - at) {
+      fail_beyond("GLB chunk " + std::to_string(chunk) + name, chunk_length, bytes.size() - at);
+    }
+    at += chunk_length;
+  }
+}
+
+// ---- OBJ material libraries, checked before assimp reads them ------------------------------------
+//
+// An OBJ file names its material libraries in "mtllib FILE" statements (the rest of the line, relative
+// to the OBJ file). assimp 5.2.5 crashes (SIGSEGV) on a texture statement (map_Kd, bump, disp, ...)
+// that comes before a library's first "newmtl", and would give it to whichever material is current
+// otherwise: such a statement belongs to no material, so it is an error.
+
+bool is_texture_statement(std::string_view word) {
+  return word.starts_with("map_") || word == "bump" || word == "disp";
+}
+
+void check_material_library(const std::string& path, const std::string& library) {
+  std::ifstream file(library, std::ios::binary);
+  if (!file) return;  // assimp reads the model without it, as it does with one that is missing
+  std::string line;
+  for (int number = 1; std::getline(file, line); ++number) {
+    const std::vector<std::string_view> words = words_of(line);
+    if (words.empty()) continue;
+    if (words[0] == "newmtl") return;
+    if (is_texture_statement(words[0])) {
+      fail(path, "material library '" + library + "' line " + std::to_string(number) + " has '" +
+                     std::string(words[0]) + "' before any 'newmtl': it belongs to no material");
+    }
+  }
+}
+
+void check_material_libraries(const Text& text) {
+  for (std::size_t at = text.all.find("mtllib"); at != std::string_view::npos; at = text.all.find("mtllib", at + 1)) {
+    const std::size_t line_start = text.all.find_last_of("\r\n", at) + 1;  // npos + 1 is 0
+    if (text.all.find_first_not_of(" \t", line_start) != at) continue;
+    const std::string_view line = text.all.substr(at, line_end(text.all.substr(at)));
+    const std::vector<std::string_view> words = words_of(line);
+    if (words.size() < 2 || words[0] != "mtllib") continue;
+    const std::string_view name = line.substr(static_cast<std::size_t>(words[1].data() - line.data()));
+    const std::string_view trimmed = name.substr(0, name.find_last_not_of(" \t") + 1);
+    check_material_library(text.path, (std::filesystem::path(text.path).parent_path() / trimmed).string());
+  }
+}
+
+// What assimp will read the file as, as far as the checks before it reads are concerned: it picks
+// a reader by the file's extension, or when none claims it, by the content.
+enum class Layout { kOther, kPly, kGlb, kObj, kOff };
+
+Layout layout_of(const Assimp::Importer& importer, const Text& text) {
+  const std::string extension = lowercase_extension(text.path);
+  if (extension == ".ply") return Layout::kPly;
+  if (extension == ".glb") return Layout::kGlb;
+  if (extension == ".obj") return Layout::kObj;
+  if (extension == ".off") return Layout::kOff;
+  if (!extension.empty() && importer.IsExtensionSupported(extension)) return Layout::kOther;
+  const std::string_view start = text.all.substr(0, 4);
+  const auto lower = [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); };
+  if (start.size() == 4 && lower(start[0]) == 'p' && lower(start[1]) == 'l' && lower(start[2]) == 'y' &&
+      is_line_end(start[3])) {
+    return Layout::kPly;
+  }
+  return start == "glTF" ? Layout::kGlb : Layout::kOther;
+}
+
+// Checks, before assimp reads the file, what assimp would crash on, spin on or allocate without
+// bound for. Returns the layout checked.
+Layout check_before_reading(const Assimp::Importer& importer, const Text& text) {
+  const Layout layout = layout_of(importer, text);
+  if (layout == Layout::kPly) check_ply(text);
+  if (layout == Layout::kGlb) check_glb(text);
+  if (layout == Layout::kObj) check_material_libraries(text);
+  if (layout == Layout::kOff) check_off(text);
+  return layout;
+}
+
+// Checks the references of a file that assimp read with one of the readers above (OFF and PLY
+// files unless they were checked before reading).
+void check_references(const Assimp::Importer& importer, const Text& text, Layout checked) {
   // ReadFile chooses the reader by the file's extension, or else by its content, and leaves the
   // reader's index in this property.
   const aiImporterDesc* reader = importer.GetImporterInfo(importer.GetPropertyInteger("importerIndex", -1));
   if (reader == nullptr) return;
   const std::string_view format = reader->mFileExtensions;
-  const auto check = format == "off" ? check_off : format == "ply" ? check_ply : format == "obj" ? check_obj : nullptr;
-  if (check == nullptr) return;
-  std::ifstream file(path, std::ios::binary);
-  const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-  check(Text{path, text});
+  if (format == "off" && checked != Layout::kOff) check_off(text);
+  if (format == "ply" && checked != Layout::kPly) check_ply(text);
+  if (format == "obj") check_obj(text);
 }
 
 struct SkippedPrimitives {
@@ -826,6 +1161,10 @@ Material material_of(const aiScene& scene, unsigned scene_index, std::size_t ind
 
 }  // namespace
 
+std::string describe_load_error(const std::string& path, const std::string& reason) {
+  return "cannot load model '" + path + "': " + reason;
+}
+
 std::string describe_triangles_dropped(std::uint64_t count) {
   return std::to_string(count) + (count == 1 ? " triangle" : " triangles") +
          " dropped: a corner's position, normal or texture coordinate is NaN or infinite";
@@ -836,10 +1175,12 @@ std::string material_label(const Material& material, std::size_t index) {
 }
 
 Model load_model(const std::string& path, std::vector<std::string>& warnings) {
-  require_readable(path);
+  const ModelFile file(path);
+  const Text text{path, file.bytes()};
   Assimp::Importer importer;
+  const Layout checked = check_before_reading(importer, text);
   const aiScene& scene = read_scene(importer, path);
-  check_references(importer, path);
+  check_references(importer, text, checked);
   SkippedPrimitives skipped;
   std::uint64_t triangles_dropped = 0;
   std::vector<Piece> pieces = mesh_instances(scene, is_gltf(path), skipped, triangles_dropped, path);

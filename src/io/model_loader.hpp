@@ -76,6 +76,9 @@ std::string describe_triangles_dropped(std::uint64_t count);
 // gives files without normals, but glTF's).
 void smooth_normals(std::span<Mesh* const> meshes);
 
+// "cannot load model 'PATH': REASON": how the errors of a model load read.
+std::string describe_load_error(const std::string& path, const std::string& reason);
+
 // Loads the triangles of a model file in any format assimp reads (OBJ, glTF 2.0 .gltf/.glb, PLY,
 // STL, OFF, ...) into one triangle list in the file's object space:
 // - each mesh appears once per node that instances it, moved by the node's accumulated transform;
@@ -109,7 +112,12 @@ void smooth_normals(std::span<Mesh* const> meshes);
 // NaN or infinite value: there is nothing to draw or to frame), faces reference vertices,
 // normals or texture coordinates that do not exist (also when assimp would repair that by dropping
 // the faces, normals or texture coordinates, or by clamping or wrapping the indices), or a PLY file
-// has what assimp reads wrongly: triangle strips or floating-point vertex indices.
+// has what assimp reads wrongly: triangle strips or floating-point vertex indices; and, before assimp
+// reads the file, when it has what assimp would crash on, spin on or allocate without bound for (a
+// PLY header without end_header or declaring more than the file holds, a PLY face without vertex
+// indices, a GLB chunk longer than the file, an OBJ material library with a texture before its
+// first newmtl). For files from untrusted sources, load_model_isolated (isolated_loader.hpp) also
+// survives what nobody foresaw.
 // Loads from several threads take turns: assimp's logger, which this watches, is process-wide.
 Model load_model(const std::string& path, std::vector<std::string>& warnings);
 
